@@ -1,1 +1,90 @@
-// placeholder
+#include "freeform/mesh/traversal.h"
+
+#include "freeform/common/error.h"
+
+namespace freeform {
+
+std::vector<Vertex> one_ring(const Mesh& mesh, Vertex v) {
+  std::vector<Vertex> ring;
+  for (Halfedge h : mesh.outgoing(v)) ring.push_back(mesh.to_vertex(h));
+  return ring;
+}
+
+VertexData<int> ring_distance(const Mesh& mesh, std::span<const Vertex> seeds, int max_k) {
+  VertexData<int> dist(mesh.n_vertices(), -1);
+  std::vector<Vertex> frontier;
+  for (Vertex s : seeds) {
+    if (s.idx() < 0 || s.idx() >= mesh.n_vertices()) throw InvalidInput("seed vertex " + std::to_string(s.idx()) + " is not in the mesh");
+    if (dist[s] < 0) {
+      dist[s] = 0;
+      frontier.push_back(s);
+    }
+  }
+  std::vector<Vertex> next;
+  for (int k = 1; k <= max_k && !frontier.empty(); ++k) {
+    next.clear();
+    for (Vertex v : frontier)
+      for (Halfedge h : mesh.outgoing(v)) {
+        const Vertex w = mesh.to_vertex(h);
+        if (dist[w] < 0) {
+          dist[w] = k;
+          next.push_back(w);
+        }
+      }
+    frontier.swap(next);
+  }
+  return dist;
+}
+
+std::vector<Vertex> k_ring(const Mesh& mesh, std::span<const Vertex> seeds, int k) {
+  const VertexData<int> dist = ring_distance(mesh, seeds, k);
+  std::vector<std::vector<Vertex>> by_ring(static_cast<std::size_t>(k) + 1);
+  for (Vertex v : mesh.vertices())
+    if (dist[v] >= 0) by_ring[dist[v]].push_back(v);
+  std::vector<Vertex> out;
+  for (const auto& ring : by_ring) out.insert(out.end(), ring.begin(), ring.end());
+  return out;
+}
+
+std::vector<std::vector<Halfedge>> boundary_loops(const Mesh& mesh) {
+  std::vector<std::vector<Halfedge>> loops;
+  HalfedgeData<char> seen(mesh.n_halfedges(), 0);
+  for (Halfedge h : mesh.halfedges()) {
+    if (!mesh.is_boundary(h) || seen[h]) continue;
+    std::vector<Halfedge> loop;
+    for (Halfedge g = h; !seen[g]; g = mesh.next(g)) {
+      seen[g] = 1;
+      loop.push_back(g);
+    }
+    loops.push_back(std::move(loop));
+  }
+  return loops;
+}
+
+Components connected_components(const Mesh& mesh) {
+  Components c;
+  c.vertex_component = VertexData<int>(mesh.n_vertices(), -1);
+  c.face_component = FaceData<int>(mesh.n_faces(), -1);
+  std::vector<Vertex> stack;
+  for (Vertex seed : mesh.vertices()) {
+    if (c.vertex_component[seed] >= 0) continue;
+    const int id = c.count++;
+    c.vertex_component[seed] = id;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const Vertex v = stack.back();
+      stack.pop_back();
+      for (Halfedge h : mesh.outgoing(v)) {
+        const Vertex w = mesh.to_vertex(h);
+        if (c.vertex_component[w] < 0) {
+          c.vertex_component[w] = id;
+          stack.push_back(w);
+        }
+      }
+    }
+  }
+  for (Face f : mesh.faces()) c.face_component[f] = c.vertex_component[mesh.vertices(f)[0]];
+  return c;
+}
+
+}  // namespace freeform

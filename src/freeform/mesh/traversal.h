@@ -1,0 +1,33 @@
+// Neighbourhoods and global structure of a Mesh: one-rings, k-rings, boundary loops,
+// connected components.
+#pragma once
+
+#include "freeform/mesh/mesh.h"
+
+#include <span>
+#include <vector>
+
+namespace freeform {
+
+// Neighbours of v in rotation order (empty for an isolated vertex).
+std::vector<Vertex> one_ring(const Mesh& mesh, Vertex v);
+
+// Ring distance (edge hops) from the nearest seed, -1 beyond max_k. Seeds have 0.
+VertexData<int> ring_distance(const Mesh& mesh, std::span<const Vertex> seeds, int max_k);
+
+// All vertices within k rings of the seeds (seeds included), in breadth-first order.
+std::vector<Vertex> k_ring(const Mesh& mesh, std::span<const Vertex> seeds, int k);
+
+// Each boundary loop as its boundary halfedges in order (next() links them).
+std::vector<std::vector<Halfedge>> boundary_loops(const Mesh& mesh);
+
+struct Components {
+  VertexData<int> vertex_component;  // component id of each vertex
+  FaceData<int> face_component;      // component id of each face
+  int count = 0;                     // isolated vertices count as components of their own
+};
+
+// Components connected through edges, numbered in order of their smallest vertex.
+Components connected_components(const Mesh& mesh);
+
+}  // namespace freeform
