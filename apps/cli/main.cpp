@@ -1,1 +1,37 @@
-// placeholder
+// freeform: command-line front end. Errors go to stderr as "freeform: error: ..." with the
+// exit codes of commands.h; nothing is written when a command fails.
+#include "commands.h"
+
+#include "freeform/common/error.h"
+
+#include <fmt/core.h>
+
+#include <cstdio>
+#include <exception>
+
+int main(int argc, char** argv) {
+  CLI::App app{"Freeform: real-time freeform modeling of triangle meshes (Botsch & Kobbelt 2004)", "freeform"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "freeform 0.1.0");
+  freeform::cli::add_info_command(app);
+  freeform::cli::add_convert_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? freeform::cli::kOk : freeform::cli::kUsage;
+  } catch (const freeform::cli::OutputError& e) {
+    fmt::print(stderr, "freeform: error: {}\n", e.what());
+    return freeform::cli::kWriteFailed;
+  } catch (const freeform::InternalError& e) {
+    fmt::print(stderr, "freeform: {}\n(this is a bug in freeform; please report it)\n", e.what());
+    return freeform::cli::kInternal;
+  } catch (const freeform::Error& e) {
+    fmt::print(stderr, "freeform: error: {}\n", e.what());
+    return freeform::cli::kBadInput;
+  } catch (const std::bad_alloc&) {
+    fmt::print(stderr, "freeform: error: out of memory\n");
+    return freeform::cli::kBadInput;
+  }
+  return freeform::cli::kOk;
+}

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Builds and runs the whole test suite: release build (warnings are errors), then the same
+# suite under AddressSanitizer + UndefinedBehaviorSanitizer. Installs what is missing first.
+# FREEFORM_SKIP_ASAN=1 runs only the release suite.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+scripts/bootstrap.sh
+scripts/fetch-data.sh
+export FREEFORM_REQUIRE_DATA=1
+cmake --preset release
+cmake --build --preset release
+ctest --preset release
+if [ "${FREEFORM_SKIP_ASAN:-0}" != 1 ]; then
+  cmake --preset asan
+  cmake --build --preset asan
+  ctest --preset asan
+fi

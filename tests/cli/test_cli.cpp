@@ -1,0 +1,156 @@
+// End-to-end tests of the `freeform` executable: output, exit codes, no partial files.
+#include "freeform/io/mesh_io.h"
+#include "test_support.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+
+using namespace freeform;
+using ::testing::HasSubstr;
+
+namespace {
+
+struct Run {
+  int exit_code;
+  std::string out, err;
+};
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Runs `freeform ARGS` through the shell, capturing stdout and stderr.
+Run freeform_cli(const std::string& args) {
+  test::ScratchDir tmp;
+  const std::string cmd = std::string(FREEFORM_CLI_PATH) + " " + args + " >" + (tmp / "out").string() + " 2>" +
+                          (tmp / "err").string();
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(tmp / "out"), slurp(tmp / "err")};
+}
+
+std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+
+void write_text(const std::filesystem::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+
+const char* kTetraObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+}  // namespace
+
+TEST(Cli, InfoJsonHasCountsAndTopology) {
+  test::ScratchDir dir;
+  write_text(dir / "tetra.obj", kTetraObj);
+  const Run r = freeform_cli("info --json " + q(dir / "tetra.obj"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["vertices"], 4);
+  EXPECT_EQ(j["faces"], 4);
+  EXPECT_EQ(j["edges"], 6);
+  EXPECT_EQ(j["genus"], 0);
+  EXPECT_EQ(j["euler_characteristic"], 2);
+  EXPECT_EQ(j["boundary_loops"], 0);
+  EXPECT_EQ(j["components"], 1);
+  EXPECT_EQ(j["manifold"], true);
+  EXPECT_EQ(j["bounding_box"]["max"], nlohmann::json({1.0, 1.0, 1.0}));
+  // Edges: three of length 1 and three of length sqrt(2).
+  EXPECT_NEAR(j["mean_edge_length"].get<double>(), (3 + 3 * std::sqrt(2.0)) / 6, 1e-12);
+}
+
+TEST(Cli, InfoReportsDefectsWithoutRefusing) {
+  test::ScratchDir dir;
+  // Bowtie at vertex 3, plus an unreferenced duplicate of vertex 1.
+  write_text(dir / "bowtie.obj", "v 0 0 0\nv 1 0 0\nv 0.5 1 0\nv 0 2 0\nv 1 2 0\nv 1 0 0\nf 1 2 3\nf 3 5 4\n");
+  const Run r = freeform_cli("info --json " + q(dir / "bowtie.obj"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["manifold"], false);
+  EXPECT_EQ(j["nonmanifold_vertices"], 1);
+  EXPECT_EQ(j["details"]["nonmanifold_vertices"], nlohmann::json({2}));
+  EXPECT_EQ(j["duplicate_vertices"], 1);
+  EXPECT_EQ(j["unreferenced_vertices"], 1);
+  EXPECT_EQ(j["components"], 2);
+}
+
+TEST(Cli, InfoTextMentionsCounts) {
+  test::ScratchDir dir;
+  write_text(dir / "tetra.obj", kTetraObj);
+  const Run r = freeform_cli("info " + q(dir / "tetra.obj"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("vertices              4"));
+  EXPECT_THAT(r.out, HasSubstr("genus                 0"));
+}
+
+TEST(Cli, BadInputExitsOneNamingTheFile) {
+  test::ScratchDir dir;
+  write_text(dir / "broken.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+  Run r = freeform_cli("info " + q(dir / "broken.obj"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.err, HasSubstr("broken.obj:4"));
+  r = freeform_cli("info " + q(dir / "missing.off"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.err, HasSubstr("missing.off"));
+}
+
+TEST(Cli, UsageErrorsExitTwo) {
+  EXPECT_EQ(freeform_cli("").exit_code, 2);
+  EXPECT_EQ(freeform_cli("info").exit_code, 2);
+  EXPECT_EQ(freeform_cli("info a.obj --no-such-flag").exit_code, 2);
+  EXPECT_EQ(freeform_cli("frobnicate").exit_code, 2);
+  const Run help = freeform_cli("convert --help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_THAT(help.out, HasSubstr("Exit codes"));
+}
+
+TEST(Cli, ConvertRoundTripsThroughEveryFormat) {
+  test::ScratchDir dir;
+  write_text(dir / "tetra.obj", kTetraObj);
+  for (const char* ext : {"off", "ply", "stl", "obj"}) {
+    const auto out = dir / (std::string("t.") + ext);
+    const Run r = freeform_cli("convert " + q(dir / "tetra.obj") + " " + q(out));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const ReadResult back = read_mesh(out.string());
+    EXPECT_EQ(back.soup.positions.size(), 4u) << ext;
+    EXPECT_EQ(back.soup.faces.size(), 4u) << ext;
+  }
+}
+
+TEST(Cli, ConvertLeavesNothingOnFailure) {
+  test::ScratchDir dir;
+  write_text(dir / "broken.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n");
+  Run r = freeform_cli("convert " + q(dir / "broken.off") + " " + q(dir / "out.ply"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.ply"));
+
+  write_text(dir / "tetra.obj", kTetraObj);
+  r = freeform_cli("convert " + q(dir / "tetra.obj") + " " + q(dir / "no-such-dir" / "out.ply"));
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_THAT(r.err, HasSubstr("no-such-dir"));
+  std::size_t files = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++files;
+  EXPECT_EQ(files, 2u);  // only the two inputs
+}
+
+TEST(Cli, ConvertRefusesToOverwriteItsInput) {
+  test::ScratchDir dir;
+  write_text(dir / "tetra.obj", kTetraObj);
+  const Run r = freeform_cli("convert " + q(dir / "tetra.obj") + " " + q(dir / "tetra.obj"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.err, HasSubstr("--overwrite-input"));
+  EXPECT_EQ(slurp(dir / "tetra.obj"), kTetraObj);
+  EXPECT_EQ(freeform_cli("convert --overwrite-input " + q(dir / "tetra.obj") + " " + q(dir / "tetra.obj")).exit_code, 0);
+}
+
+TEST(Cli, ConvertRepairSplitsNonManifoldVertices) {
+  test::ScratchDir dir;
+  write_text(dir / "bowtie.obj", "v 0 0 0\nv 1 0 0\nv 0.5 1 0\nv 0 2 0\nv 1 2 0\nf 1 2 3\nf 3 5 4\n");
+  const Run r = freeform_cli("convert --repair " + q(dir / "bowtie.obj") + " " + q(dir / "fixed.off"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("split vertex 2"));
+  EXPECT_EQ(read_mesh((dir / "fixed.off").string()).soup.positions.size(), 6u);
+}
