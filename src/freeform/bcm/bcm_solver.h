@@ -1,0 +1,72 @@
+// The precomputing BCM solver (DESIGN.md section 4): construct once (assemble + factor +
+// 3 + 4M solves), then evaluate(transforms) per frame as a dense product.
+//
+//   p = P_const + sum_m B_m T_m(F0_m)      P_const: P x 3, B_m: P x 4, F0_m: 4 x 3
+// F0_m is a virtual affine frame of movable handle m (centroid c, c + s e1, c + s e2, c + s e3
+// with s its extent); handle vertices are affine combinations of it. Immovable handles are
+// folded into the constant part.
+#pragma once
+
+#include "freeform/bcm/bcm_system.h"
+#include "freeform/bcm/settings.h"
+#include "freeform/mesh/mesh.h"
+#include "freeform/regions/regions.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <array>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace freeform {
+
+struct BcmStats {
+  std::string solver;      // SparseSolver::name()
+  bool symmetric = false;
+  int free = 0;            // P
+  int constrained = 0;     // C: constrained vertices in the system
+  double assembly_ms = 0, factorization_ms = 0, basis_ms = 0;
+  double residual = 0;     // max over right-hand sides of |A_pp X - B| / |B| (relative)
+};
+
+class BcmSolver {
+ public:
+  using RowMatrixX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+  // Throws InvalidInput / SolverError with a message that says what to fix.
+  BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings);
+
+  int n_free() const;
+  int n_movable() const;  // number of transforms evaluate() expects, in handle order
+  const std::vector<Vertex>& free_vertices() const;
+  Vec3 handle_centroid(int movable) const;  // default pivot of manipulator `movable`
+  const BcmStats& stats() const { return stats_; }
+
+  // Positions of the free vertices (P x 3, row i = free_vertices()[i]) for one affine map per
+  // movable handle. No allocation; parallel over rows. out must be P x 3.
+  void evaluate(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out) const;
+  // Writes the free and movable-handle vertices of `positions` (#V entries); others untouched.
+  void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
+
+  // The precomputed parts (tests, multiresolution).
+  const RowMatrixX3d& constant_part() const { return constant_; }
+  // B: P x 4M, columns 4m..4m+3 belong to movable handle m.
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& basis() const { return basis_; }
+  const std::array<Vec3, 4>& frame(int movable) const { return frames_[static_cast<std::size_t>(movable)]; }
+
+ private:
+  BcmStats stats_;
+  std::vector<Vertex> free_;
+  RowMatrixX3d constant_;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> basis_;
+  std::vector<std::array<Vec3, 4>> frames_;
+  std::vector<Vec3> centroids_;
+  // Movable handle vertices and their owner, to move them rigidly with T_m.
+  std::vector<Vertex> handle_vertices_;
+  std::vector<int> handle_owner_;
+  std::vector<Vec3> handle_rest_;
+};
+
+}  // namespace freeform

@@ -1,0 +1,41 @@
+// A factored sparse square matrix, solved for many right-hand sides (STYLE.md: one wrapper
+// hides CHOLMOD / UMFPACK / Eigen). Symmetric positive definite -> CHOLMOD supernodal
+// Cholesky (fallback Eigen LDLT); unsymmetric -> UMFPACK (fallback Eigen SparseLU).
+#pragma once
+
+#include "freeform/numerics/solver_kind.h"
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <memory>
+#include <string>
+
+namespace freeform {
+
+// True if |A - A^T| <= tol * max|A| entrywise (A square, compressed).
+bool is_symmetric(const Eigen::SparseMatrix<double>& a, double tol = 1e-12);
+
+class SparseSolver {
+ public:
+  // Factors A. `symmetric` selects the family; `kind` forces one solver (Auto: the fast one,
+  // with the Eigen fallback if the SuiteSparse one is unavailable or fails to factor).
+  // Throws SolverError with a clear message if the matrix is singular or (for Cholesky) not
+  // positive definite.
+  SparseSolver(const Eigen::SparseMatrix<double>& a, bool symmetric, SolverKind kind = SolverKind::Auto);
+  ~SparseSolver();
+  SparseSolver(SparseSolver&&) noexcept;
+  SparseSolver& operator=(SparseSolver&&) noexcept;
+
+  // X = A^-1 B (B: n by m). Throws SolverError if the result is not finite.
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const;
+
+  SolverKind kind() const;
+  std::string name() const;  // e.g. "cholmod-supernodal-llt"
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace freeform
