@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (CMake preset `fuzz`, clang) and runs each reader's fuzzer.
+#
+#   scripts/run-fuzzers.sh [seconds-per-target]     (default 60)
+#
+# Seeds come from data/tiny (copied into a scratch corpus under build/fuzz/corpus, not in git;
+# FUZZ_WORK_DIR overrides the location). Crash reproducers are written to <work>/artifacts/<fmt>/.
+# Exits non-zero if any fuzzer found a crash, leak, timeout or out-of-memory input.
+set -euo pipefail
+
+seconds="${1:-60}"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+work="${FUZZ_WORK_DIR:-$root/build/fuzz/corpus}"
+targets=(obj off ply stl)
+
+cmake --preset fuzz >/dev/null
+cmake --build --preset fuzz --target "${targets[@]/#/fuzz_}" -j "${FUZZ_JOBS:-2}"
+
+status=0
+summary=""
+for t in "${targets[@]}"; do
+  corpus="$work/$t"
+  artifacts="$work/artifacts/$t/"
+  mkdir -p "$corpus" "$artifacts"
+  for seed in data/tiny/*."$t"; do
+    [ -e "$seed" ] && cp "$seed" "$corpus/"
+  done
+  dict=()
+  [ -f "fuzz/$t.dict" ] && dict=(-dict="fuzz/$t.dict")
+  log="$work/fuzz_$t.log"
+  echo "== fuzz_$t: ${seconds}s, corpus $corpus"
+  rc=0
+  "build/fuzz/fuzz/fuzz_$t" "$corpus" "${dict[@]}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=1024 \
+      -artifact_prefix="$artifacts" -print_final_stats=1 >"$log" 2>&1 || rc=$?
+  execs="$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')"
+  crashes="$(find "$artifacts" -type f | wc -l)"
+  if [ "$rc" -ne 0 ] || [ "$crashes" -ne 0 ]; then
+    status=1
+    summary+="fuzz_$t: FAILED (exit $rc, $crashes artifact(s) in $artifacts), execs $execs"$'\n'
+    tail -n 40 "$log"
+  else
+    summary+="fuzz_$t: ok, ${seconds}s, execs $execs, corpus $(find "$corpus" -type f | wc -l) files"$'\n'
+  fi
+done
+echo "== summary"
+printf '%s' "$summary"
+exit "$status"

@@ -1,0 +1,136 @@
+#include "freeform/io/text_scan.h"
+
+#include <fmt/format.h>
+
+#include <cstring>
+
+namespace freeform::io_detail {
+
+void fail(const std::string& name, std::size_t line, const std::string& message) { throw IoError(name, line, message); }
+
+std::string quote(std::string_view token) {
+  constexpr std::size_t kMax = 24;
+  std::string out = "'";
+  for (std::size_t i = 0; i < token.size() && i < kMax; ++i) {
+    const auto c = static_cast<unsigned char>(token[i]);
+    out += (c >= 0x20 && c < 0x7f) ? static_cast<char>(c) : '?';
+  }
+  if (token.size() > kMax) out += "...";
+  return out + "'";
+}
+
+LineReader::LineReader(std::string_view data, const std::string& name) : data_(data), name_(name) {
+  if (data_.size() >= 3 && std::memcmp(data_.data(), "\xEF\xBB\xBF", 3) == 0) pos_ = 3;
+}
+
+bool LineReader::next(std::string_view& line) {
+  if (pos_ >= data_.size()) return false;
+  ++line_;
+  const char* begin = data_.data() + pos_;
+  const char* end = data_.data() + data_.size();
+  const char* p = begin;
+  for (; p != end && *p != '\n'; ++p) {
+    if (is_binary_byte(*p))
+      io_detail::fail(name_, line_, fmt::format("binary data at line {} (not a text file?)", line_));
+  }
+  std::size_t len = static_cast<std::size_t>(p - begin);
+  pos_ += len + (p != end ? 1 : 0);
+  if (len > 0 && begin[len - 1] == '\r') --len;
+  line = std::string_view(begin, len);
+  return true;
+}
+
+bool TokenReader::next(std::string_view& token) {
+  const std::size_t n = data_.size();
+  while (pos_ < n) {
+    const char c = data_[pos_];
+    if (c == '\n') {
+      ++line_;
+    } else if (!is_space(c)) {
+      if (is_binary_byte(c))
+        io_detail::fail(name_, line_, fmt::format("binary data at line {} (not a text file?)", line_));
+      break;
+    }
+    ++pos_;
+  }
+  if (pos_ >= n) {
+    token_line_ = line_;
+    return false;
+  }
+  const std::size_t start = pos_;
+  while (pos_ < n && data_[pos_] != '\n' && !is_space(data_[pos_])) {
+    if (is_binary_byte(data_[pos_]))
+      io_detail::fail(name_, line_, fmt::format("binary data at line {} (not a text file?)", line_));
+    ++pos_;
+  }
+  token_line_ = line_;
+  token = data_.substr(start, pos_ - start);
+  return true;
+}
+
+void TokenReader::skip_line() {
+  while (pos_ < data_.size() && data_[pos_] != '\n') {
+    if (is_binary_byte(data_[pos_]))
+      io_detail::fail(name_, line_, fmt::format("binary data at line {} (not a text file?)", line_));
+    ++pos_;
+  }
+}
+
+std::string_view TokenReader::require(const char* what) {
+  std::string_view token;
+  if (!next(token)) fail(fmt::format("unexpected end of file (expected {})", what));
+  return token;
+}
+
+void FanCounter::add(const std::vector<int>& poly, std::vector<Tri>& faces) {
+  for (std::size_t i = 1; i + 1 < poly.size(); ++i) faces.push_back({poly[0], poly[i], poly[i + 1]});
+  if (poly.size() > 3) {
+    ++polygons;
+    triangles += poly.size() - 2;
+  }
+}
+
+void FanCounter::warn(std::vector<std::string>& warnings) const {
+  if (polygons > 0)
+    warnings.push_back(fmt::format("{} polygon{} with more than 3 vertices fan-triangulated into {} triangles",
+                                   polygons, polygons == 1 ? "" : "s", triangles));
+}
+
+void require_nonempty(const TriangleSoup& soup, const std::string& name) {
+  if (soup.positions.empty()) fail(name, 0, "no vertices");
+  if (soup.faces.empty()) fail(name, 0, "no faces");
+}
+
+void check_soup_for_writing(const TriangleSoup& soup) {
+  const auto n = static_cast<long long>(soup.positions.size());
+  for (std::size_t f = 0; f < soup.faces.size(); ++f) {
+    for (int v : soup.faces[f]) {
+      if (v < 0 || v >= n)
+        throw InvalidInput(
+            fmt::format("cannot write mesh: face {} has vertex index {} out of range ({} vertices)", f, v, n));
+    }
+  }
+}
+
+void append_number(std::string& out, double value) {
+  char buf[32];
+  auto [ptr, ec] = std::to_chars(buf, buf + sizeof(buf), value);
+  FF_CHECK(ec == std::errc(), "to_chars(double) failed");
+  out.append(buf, ptr);
+}
+
+void append_number(std::string& out, float value) {
+  char buf[32];
+  auto [ptr, ec] = std::to_chars(buf, buf + sizeof(buf), value);
+  FF_CHECK(ec == std::errc(), "to_chars(float) failed");
+  out.append(buf, ptr);
+}
+
+void append_number(std::string& out, std::int64_t value) {
+  char buf[24];
+  auto [ptr, ec] = std::to_chars(buf, buf + sizeof(buf), value);
+  FF_CHECK(ec == std::errc(), "to_chars(int) failed");
+  out.append(buf, ptr);
+}
+
+}  // namespace freeform::io_detail

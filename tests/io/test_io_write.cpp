@@ -1,0 +1,198 @@
+// Writers (round trips for every format and encoding), dispatch by extension and atomic writes.
+#include "io_test_util.h"
+
+#include "freeform/io/file_util.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace freeform::test {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+// Coordinates that need all 17 significant digits, tiny and huge magnitudes, negative zero.
+TriangleSoup awkward_soup() {
+  TriangleSoup s;
+  s.positions = {Vec3(0.1, 1.0 / 3.0, -2.0 / 7.0), Vec3(1e-300, 123456789.123456789, -0.0),
+                 Vec3(std::nextafter(1.0, 2.0), 5e-324, 1e300), Vec3(-7.5, 0.2, 0.30000000000000004),
+                 Vec3(3.14159265358979, 2.718281828459045, 1.4142135623730951)};
+  s.faces = {Tri{0, 1, 2}, Tri{0, 2, 3}, Tri{3, 2, 1}, Tri{4, 0, 3}};
+  return s;
+}
+
+std::vector<std::string> files_in(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST(WriteMesh, ExactRoundTripObjOffPly) {
+  ScratchDir dir;
+  const TriangleSoup soup = awkward_soup();
+  struct Case {
+    std::string file;
+    bool binary;
+  };
+  for (const Case& c : {Case{"m.obj", true}, Case{"m.off", true}, Case{"m.ply", true}, Case{"m_ascii.ply", false}}) {
+    SCOPED_TRACE(c.file);
+    WriteOptions options;
+    options.binary = c.binary;
+    write_mesh((dir / c.file).string(), soup, options);
+    const ReadResult r = read_mesh((dir / c.file).string());
+    expect_same(r.soup, soup);
+    EXPECT_TRUE(r.warnings.empty());
+  }
+  EXPECT_THAT(slurp(dir / "m.ply"), HasSubstr("format binary_little_endian 1.0"));
+  EXPECT_THAT(slurp(dir / "m.ply"), HasSubstr("property double x"));
+  EXPECT_THAT(slurp(dir / "m.ply"), HasSubstr("property list uchar int vertex_indices"));
+  EXPECT_THAT(slurp(dir / "m_ascii.ply"), HasSubstr("format ascii 1.0"));
+}
+
+TEST(WriteMesh, StlRoundTripAsFloat) {
+  ScratchDir dir;
+  TriangleSoup soup = awkward_soup();
+  soup.positions[2] = Vec3(2.5, -1e-3, 1e20);  // stays within float range
+  soup.positions[1] = Vec3(1e-30, 123456789.123456789, -0.0);
+  for (bool binary : {true, false}) {
+    SCOPED_TRACE(binary ? "binary" : "ascii");
+    const std::string path = (dir / (binary ? "b.stl" : "a.stl")).string();
+    WriteOptions options;
+    options.binary = binary;
+    write_mesh(path, soup, options);
+    EXPECT_EQ(slurp(path).rfind("solid", 0) == 0, !binary);
+    const ReadResult r = read_mesh(path);
+    ASSERT_EQ(r.soup.faces.size(), soup.faces.size());
+    EXPECT_EQ(r.soup.positions.size(), soup.positions.size());
+    for (std::size_t f = 0; f < soup.faces.size(); ++f) {
+      for (int c = 0; c < 3; ++c) {
+        const Vec3& expected = soup.positions[static_cast<std::size_t>(soup.faces[f][static_cast<std::size_t>(c)])];
+        const Vec3& got = r.soup.positions[static_cast<std::size_t>(r.soup.faces[f][static_cast<std::size_t>(c)])];
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(got[k], static_cast<double>(static_cast<float>(expected[k])));
+      }
+    }
+  }
+}
+
+TEST(WriteMesh, FormatFromExtensionAndOverride) {
+  ScratchDir dir;
+  const TriangleSoup soup = tetra();
+  write_mesh((dir / "UPPER.OBJ").string(), soup);
+  EXPECT_EQ(slurp(dir / "UPPER.OBJ").substr(0, 1), "#");
+  expect_same(read_mesh((dir / "UPPER.OBJ").string()).soup, soup);
+
+  const std::string dat = (dir / "mesh.dat").string();
+  EXPECT_THROW(write_mesh(dat, soup), IoError);
+  WriteOptions wo;
+  wo.format = MeshFormat::Off;
+  write_mesh(dat, soup, wo);
+  EXPECT_EQ(slurp(dat).substr(0, 4), "OFF\n");
+  try {
+    read_mesh(dat);
+    ADD_FAILURE() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("mesh.dat"));
+    EXPECT_THAT(e.what(), HasSubstr("extension"));
+  }
+  ReadOptions ro;
+  ro.format = parse_mesh_format("OFF");
+  expect_same(read_mesh(dat, ro).soup, soup);
+
+  // An override beats the extension.
+  const std::string fake = (dir / "fake.stl").string();
+  wo.format = MeshFormat::Ply;
+  wo.binary = false;
+  write_mesh(fake, soup, wo);
+  EXPECT_EQ(slurp(fake).substr(0, 4), "ply\n");
+  ro.format = MeshFormat::Ply;
+  expect_same(read_mesh(fake, ro).soup, soup);
+
+  EXPECT_EQ(parse_mesh_format("Stl"), MeshFormat::Stl);
+  EXPECT_THROW(parse_mesh_format("xyz"), InvalidInput);
+  EXPECT_STREQ(format_name(MeshFormat::Ply), "ply");
+  EXPECT_EQ(format_from_path("a/b.c/d.Off"), MeshFormat::Off);
+}
+
+TEST(WriteMesh, InvalidSoupThrowsAndLeavesTargetUntouched) {
+  ScratchDir dir;
+  const std::string path = (dir / "keep.obj").string();
+  write_mesh(path, tetra());
+  const std::string before = slurp(path);
+  TriangleSoup bad = tetra();
+  bad.faces.push_back(Tri{0, 1, 4});
+  EXPECT_THROW(write_mesh(path, bad), InvalidInput);
+  EXPECT_EQ(slurp(path), before);
+  EXPECT_EQ(files_in(dir.path()), std::vector<std::string>{"keep.obj"});
+}
+
+TEST(FileUtil, ReadFileErrorsNameTheFile) {
+  ScratchDir dir;
+  const std::string missing = (dir / "missing.obj").string();
+  try {
+    read_file(missing);
+    ADD_FAILURE() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_EQ(e.file(), missing);
+    EXPECT_THAT(e.what(), HasSubstr(missing));
+  }
+  EXPECT_THROW(read_mesh(missing), IoError);
+  try {
+    read_file(dir.path().string());
+    ADD_FAILURE() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("directory"));
+  }
+  write_file_atomic((dir / "empty.obj").string(), "");
+  EXPECT_EQ(read_file((dir / "empty.obj").string()), "");
+  EXPECT_THAT(read_error(MeshFormat::Obj, read_file((dir / "empty.obj").string()), "empty.obj"),
+              HasSubstr("empty file"));
+}
+
+TEST(FileUtil, AtomicWriteIntoMissingFolderThrowsAndCreatesNothing) {
+  ScratchDir dir;
+  const fs::path target = dir / "no" / "such" / "folder" / "m.obj";
+  EXPECT_THROW(write_file_atomic(target.string(), "data"), IoError);
+  EXPECT_THROW(write_mesh(target.string(), tetra()), IoError);
+  EXPECT_FALSE(fs::exists(dir / "no"));
+  EXPECT_TRUE(files_in(dir.path()).empty());
+}
+
+TEST(FileUtil, AtomicWriteReplacesAndLeavesNoTemporaries) {
+  ScratchDir dir;
+  const std::string path = (dir / "f.txt").string();
+  write_file_atomic(path, "old");
+  write_file_atomic(path, std::string("new\0data", 8));
+  EXPECT_EQ(read_file(path), std::string("new\0data", 8));
+  EXPECT_EQ(files_in(dir.path()), std::vector<std::string>{"f.txt"});
+}
+
+TEST(FileUtil, FailedRenameLeavesOldTargetIntact) {
+  // The target is a non-empty folder: creating and writing the temporary works, the final
+  // rename fails (even for root). The old target and its content must survive, the temporary
+  // must be gone.
+  ScratchDir dir;
+  const fs::path target = dir / "mesh.obj";
+  fs::create_directory(target);
+  { std::ofstream(target / "inside.txt") << "precious"; }
+  try {
+    write_mesh(target.string(), tetra());
+    ADD_FAILURE() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("mesh.obj"));
+  }
+  EXPECT_TRUE(fs::is_directory(target));
+  EXPECT_EQ(slurp(target / "inside.txt"), "precious");
+  EXPECT_EQ(files_in(dir.path()), std::vector<std::string>{"mesh.obj"});
+}
+
+}  // namespace
+}  // namespace freeform::test
