@@ -9,7 +9,7 @@ import subprocess
 import sys
 
 root = pathlib.Path(__file__).resolve().parent.parent
-cli = root / (sys.argv[1] if len(sys.argv) > 1 else "build/release") / "freeform"
+cli = root / (sys.argv[1] if len(sys.argv) > 1 else "build/release") / "apps/cli/freeform"
 meshes = sorted((root / ".cache/cgal-meshes").glob("*.off"))
 rows, loaded, refused, clean = [], 0, 0, 0
 for path in meshes:
@@ -33,7 +33,7 @@ for path in meshes:
                 "repeated_index_faces", "duplicate_vertices", "unreferenced_vertices"):
         if j[key]:
             notes.append(f"{j[key]} {key.replace('_', ' ')}")
-    notes += [w.replace("|", "\\|") for w in j["warnings"]]
+    notes += [w.replace(str(path.parent) + "/", "").replace("|", "\\|") for w in j["warnings"]]
     clean += not notes
     counts_ok = str(j["vertices"]) == hv and (str(j["faces"]) == hf or j["warnings"])
     rows.append(f"| {path.name} | {hv} | {hf} | {j['vertices']} / {j['faces']}{'' if counts_ok else ' (MISMATCH)'} "

@@ -16,7 +16,7 @@ using ::testing::HasSubstr;
 
 namespace {
 
-struct Run {
+struct CliRun {
   int exit_code;
   std::string out, err;
 };
@@ -27,7 +27,7 @@ std::string slurp(const std::filesystem::path& p) {
 }
 
 // Runs `freeform ARGS` through the shell, capturing stdout and stderr.
-Run freeform_cli(const std::string& args) {
+CliRun freeform_cli(const std::string& args) {
   test::ScratchDir tmp;
   const std::string cmd = std::string(FREEFORM_CLI_PATH) + " " + args + " >" + (tmp / "out").string() + " 2>" +
                           (tmp / "err").string();
@@ -46,7 +46,7 @@ const char* kTetraObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf
 TEST(Cli, InfoJsonHasCountsAndTopology) {
   test::ScratchDir dir;
   write_text(dir / "tetra.obj", kTetraObj);
-  const Run r = freeform_cli("info --json " + q(dir / "tetra.obj"));
+  const CliRun r = freeform_cli("info --json " + q(dir / "tetra.obj"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["vertices"], 4);
@@ -66,7 +66,7 @@ TEST(Cli, InfoReportsDefectsWithoutRefusing) {
   test::ScratchDir dir;
   // Bowtie at vertex 3, plus an unreferenced duplicate of vertex 1.
   write_text(dir / "bowtie.obj", "v 0 0 0\nv 1 0 0\nv 0.5 1 0\nv 0 2 0\nv 1 2 0\nv 1 0 0\nf 1 2 3\nf 3 5 4\n");
-  const Run r = freeform_cli("info --json " + q(dir / "bowtie.obj"));
+  const CliRun r = freeform_cli("info --json " + q(dir / "bowtie.obj"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["manifold"], false);
@@ -80,7 +80,7 @@ TEST(Cli, InfoReportsDefectsWithoutRefusing) {
 TEST(Cli, InfoTextMentionsCounts) {
   test::ScratchDir dir;
   write_text(dir / "tetra.obj", kTetraObj);
-  const Run r = freeform_cli("info " + q(dir / "tetra.obj"));
+  const CliRun r = freeform_cli("info " + q(dir / "tetra.obj"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("vertices              4"));
   EXPECT_THAT(r.out, HasSubstr("genus                 0"));
@@ -89,7 +89,7 @@ TEST(Cli, InfoTextMentionsCounts) {
 TEST(Cli, BadInputExitsOneNamingTheFile) {
   test::ScratchDir dir;
   write_text(dir / "broken.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
-  Run r = freeform_cli("info " + q(dir / "broken.obj"));
+  CliRun r = freeform_cli("info " + q(dir / "broken.obj"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.err, HasSubstr("broken.obj:4"));
   r = freeform_cli("info " + q(dir / "missing.off"));
@@ -102,7 +102,7 @@ TEST(Cli, UsageErrorsExitTwo) {
   EXPECT_EQ(freeform_cli("info").exit_code, 2);
   EXPECT_EQ(freeform_cli("info a.obj --no-such-flag").exit_code, 2);
   EXPECT_EQ(freeform_cli("frobnicate").exit_code, 2);
-  const Run help = freeform_cli("convert --help");
+  const CliRun help = freeform_cli("convert --help");
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_THAT(help.out, HasSubstr("Exit codes"));
 }
@@ -112,7 +112,7 @@ TEST(Cli, ConvertRoundTripsThroughEveryFormat) {
   write_text(dir / "tetra.obj", kTetraObj);
   for (const char* ext : {"off", "ply", "stl", "obj"}) {
     const auto out = dir / (std::string("t.") + ext);
-    const Run r = freeform_cli("convert " + q(dir / "tetra.obj") + " " + q(out));
+    const CliRun r = freeform_cli("convert " + q(dir / "tetra.obj") + " " + q(out));
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const ReadResult back = read_mesh(out.string());
     EXPECT_EQ(back.soup.positions.size(), 4u) << ext;
@@ -123,7 +123,7 @@ TEST(Cli, ConvertRoundTripsThroughEveryFormat) {
 TEST(Cli, ConvertLeavesNothingOnFailure) {
   test::ScratchDir dir;
   write_text(dir / "broken.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n");
-  Run r = freeform_cli("convert " + q(dir / "broken.off") + " " + q(dir / "out.ply"));
+  CliRun r = freeform_cli("convert " + q(dir / "broken.off") + " " + q(dir / "out.ply"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_FALSE(std::filesystem::exists(dir / "out.ply"));
 
@@ -139,7 +139,7 @@ TEST(Cli, ConvertLeavesNothingOnFailure) {
 TEST(Cli, ConvertRefusesToOverwriteItsInput) {
   test::ScratchDir dir;
   write_text(dir / "tetra.obj", kTetraObj);
-  const Run r = freeform_cli("convert " + q(dir / "tetra.obj") + " " + q(dir / "tetra.obj"));
+  const CliRun r = freeform_cli("convert " + q(dir / "tetra.obj") + " " + q(dir / "tetra.obj"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.err, HasSubstr("--overwrite-input"));
   EXPECT_EQ(slurp(dir / "tetra.obj"), kTetraObj);
@@ -149,7 +149,7 @@ TEST(Cli, ConvertRefusesToOverwriteItsInput) {
 TEST(Cli, ConvertRepairSplitsNonManifoldVertices) {
   test::ScratchDir dir;
   write_text(dir / "bowtie.obj", "v 0 0 0\nv 1 0 0\nv 0.5 1 0\nv 0 2 0\nv 1 2 0\nf 1 2 3\nf 3 5 4\n");
-  const Run r = freeform_cli("convert --repair " + q(dir / "bowtie.obj") + " " + q(dir / "fixed.off"));
+  const CliRun r = freeform_cli("convert --repair " + q(dir / "bowtie.obj") + " " + q(dir / "fixed.off"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("split vertex 2"));
   EXPECT_EQ(read_mesh((dir / "fixed.off").string()).soup.positions.size(), 6u);
