@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The main job on the bundled default input: installs what is missing, builds the release
-# CLI and runs it on the armadillo of libcgal-demo.
+# CLI and runs a real BCM edit on the armadillo of libcgal-demo: the right ear (geodesic
+# support of radius 32 around its tip) is bent outward by a handle at the tip
+# (data/edits/armadillo.json, order 3). Writes the deformed mesh and a JSON report.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -9,9 +11,11 @@ scripts/fetch-data.sh
 cmake --preset release >/dev/null
 cmake --build --preset release --target freeform
 mesh=.cache/cgal-meshes/armadillo.off
+edit=data/edits/armadillo.json
 out=build/demo
 mkdir -p "$out"
 ./build/release/freeform info "$mesh"
-./build/release/freeform info "$mesh" --json > "$out/armadillo-info.json"
-./build/release/freeform convert "$mesh" "$out/armadillo.ply"
-echo "demo: wrote $out/armadillo-info.json and $out/armadillo.ply"
+./build/release/freeform deform "$mesh" --edit "$edit" -o "$out/armadillo-deformed.off" \
+  --report "$out/armadillo-report.json"
+cat "$out/armadillo-report.json"
+echo "demo: wrote $out/armadillo-deformed.off and $out/armadillo-report.json"

@@ -23,5 +23,6 @@ struct OutputError : Error {
 
 void add_info_command(CLI::App& app);
 void add_convert_command(CLI::App& app);
+void add_deform_command(CLI::App& app);
 
 }  // namespace freeform::cli

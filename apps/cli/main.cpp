@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "freeform 0.1.0");
   freeform::cli::add_info_command(app);
   freeform::cli::add_convert_command(app);
+  freeform::cli::add_deform_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,1 +1,35 @@
-// placeholder
+#include "freeform/bcm/edit.h"
+
+#include "freeform/bcm/edit_file.h"
+#include "freeform/common/error.h"
+
+#include <algorithm>
+
+namespace freeform {
+
+std::vector<Eigen::Affine3d> edit_transforms(const Edit& edit, const BcmSolver& solver) {
+  const auto movable = std::count_if(edit.handles.begin(), edit.handles.end(), [](const EditHandle& h) { return !h.fixed; });
+  if (movable != solver.n_movable())
+    throw InvalidInput("the edit has " + std::to_string(movable) + " movable handles, the solver " +
+                       std::to_string(solver.n_movable()) + ": build the solver from this edit");
+  std::vector<Eigen::Affine3d> out;
+  for (const EditHandle& h : edit.handles) {
+    if (h.fixed) continue;
+    const int m = static_cast<int>(out.size());
+    out.push_back(h.matrix ? *h.matrix : h.manipulator.to_affine(solver.handle_centroid(m)));
+  }
+  return out;
+}
+
+Mesh deform(const Mesh& mesh, const Edit& edit, BcmStats* stats) {
+  check_edit_available(edit);
+  const Regions regions = edit_regions(mesh, edit);
+  const BcmSolver solver(mesh, regions, edit.settings);
+  const std::vector<Eigen::Affine3d> transforms = edit_transforms(edit, solver);
+  Mesh out = mesh;
+  solver.evaluate(transforms, out.positions());
+  if (stats) *stats = solver.stats();
+  return out;
+}
+
+}  // namespace freeform

@@ -1,0 +1,125 @@
+#include "freeform/regions/selectors.h"
+
+#include "freeform/common/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <queue>
+#include <sstream>
+#include <utility>
+
+namespace freeform {
+namespace {
+
+std::string num(double x) {
+  std::ostringstream s;
+  s.precision(10);
+  s << x;
+  return s.str();
+}
+
+void check_ball(const Vec3& center, double radius, const std::string& name) {
+  if (!center.allFinite()) throw InvalidInput(name + ": the center is not finite");
+  if (!std::isfinite(radius) || radius <= 0.0)
+    throw InvalidInput(name + ": the radius must be a finite number > 0, got " + num(radius));
+}
+
+std::vector<Vertex> nonempty(std::vector<Vertex> vs, const std::string& name, const std::string& why) {
+  if (vs.empty()) throw InvalidInput(name + " selects no vertex (" + why + ")");
+  return vs;
+}
+
+}  // namespace
+
+std::vector<Vertex> select_indices(const Mesh& mesh, std::span<const long long> indices, const std::string& name) {
+  if (indices.empty()) throw InvalidInput(name + " selects no vertex (empty vertex list)");
+  std::vector<Vertex> out;
+  out.reserve(indices.size());
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    const long long idx = indices[i];
+    if (idx < 0 || idx >= mesh.n_vertices())
+      throw InvalidInput(name + ": vertex index " + std::to_string(idx) + " (entry " + std::to_string(i) +
+                         ") is outside the mesh, which has vertices 0.." + std::to_string(mesh.n_vertices() - 1));
+    out.emplace_back(static_cast<int>(idx));
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::vector<Vertex> select_sphere(const Mesh& mesh, const Vec3& center, double radius, const std::string& name) {
+  check_ball(center, radius, name);
+  std::vector<Vertex> out;
+  for (Vertex v : mesh.vertices())
+    if ((mesh.position(v) - center).norm() <= radius) out.push_back(v);
+  return nonempty(std::move(out), name, "no vertex within distance " + num(radius) + " of the center");
+}
+
+Vertex nearest_vertex(const Mesh& mesh, const Vec3& p) {
+  Vertex best;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (Vertex v : mesh.vertices()) {
+    if (mesh.is_isolated(v)) continue;
+    const double d = (mesh.position(v) - p).squaredNorm();
+    if (d < best_d) {
+      best_d = d;
+      best = v;
+    }
+  }
+  if (!best.is_valid()) throw InvalidInput("the mesh has no faces, so no vertex lies on the surface");
+  return best;
+}
+
+VertexData<double> geodesic_distance(const Mesh& mesh, Vertex source, double max_distance) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  VertexData<double> dist(mesh.n_vertices(), kInf);
+  if (!source.is_valid() || source.idx() >= mesh.n_vertices())
+    throw InvalidInput("geodesic distance: source vertex " + std::to_string(source.idx()) + " is outside the mesh");
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+  dist[source] = 0.0;
+  queue.emplace(0.0, source.idx());
+  while (!queue.empty()) {
+    const auto [d, i] = queue.top();
+    queue.pop();
+    const Vertex v(i);
+    if (d > dist[v]) continue;  // stale entry
+    for (Halfedge h : mesh.outgoing(v)) {
+      const Vertex w = mesh.to_vertex(h);
+      const double nd = d + (mesh.position(w) - mesh.position(v)).norm();
+      if (nd < dist[w] && nd <= max_distance) {
+        dist[w] = nd;
+        queue.emplace(nd, w.idx());
+      }
+    }
+  }
+  return dist;
+}
+
+std::vector<Vertex> select_geodesic(const Mesh& mesh, const Vec3& center, double radius, const std::string& name) {
+  check_ball(center, radius, name);
+  Vertex source;
+  try {
+    source = nearest_vertex(mesh, center);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(name + ": " + e.what());
+  }
+  const VertexData<double> dist = geodesic_distance(mesh, source, radius);
+  std::vector<Vertex> out;
+  for (Vertex v : mesh.vertices())
+    if (dist[v] <= radius) out.push_back(v);
+  return out;  // never empty: the source itself has distance 0
+}
+
+std::vector<Vertex> select_labels(std::span<const int> labels, std::span<const int> wanted, const std::string& name) {
+  if (wanted.empty()) throw InvalidInput(name + " selects no vertex (empty label list)");
+  std::vector<Vertex> out;
+  for (std::size_t i = 0; i < labels.size(); ++i)
+    if (std::find(wanted.begin(), wanted.end(), labels[i]) != wanted.end()) out.emplace_back(static_cast<int>(i));
+  std::string list;
+  for (int w : wanted) list += (list.empty() ? "" : ", ") + std::to_string(w);
+  return nonempty(std::move(out), name, "no vertex has label " + list);
+}
+
+}  // namespace freeform
