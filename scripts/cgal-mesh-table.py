@@ -9,7 +9,7 @@ import subprocess
 import sys
 
 root = pathlib.Path(__file__).resolve().parent.parent
-cli = root / (sys.argv[1] if len(sys.argv) > 1 else "build/release") / "apps/cli/freeform"
+cli = root / (sys.argv[1] if len(sys.argv) > 1 else "build/release") / "freeform"
 meshes = sorted((root / ".cache/cgal-meshes").glob("*.off"))
 rows, loaded, refused, clean = [], 0, 0, 0
 for path in meshes:
