@@ -1,1 +1,190 @@
-// placeholder
+// BcmSolver: one factorization, 3 + 4M solves, then per frame p = P_const + B G
+// (DESIGN.md section 4).
+#include "freeform/bcm/bcm_solver.h"
+
+#include "freeform/common/error.h"
+#include "freeform/numerics/sparse_solver.h"
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace freeform {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+// Rows below this are evaluated on one thread (thread start-up costs more than the work).
+constexpr int kParallelRows = 4096;
+
+// p_i = c_i + sum_j B_ij G_j for rows [0, n); NH4 = 4M known at compile time when > 0.
+template <int NH4, class Store>
+void kernel(int n, int n4_dynamic, const double* __restrict b, const double* __restrict c0,
+            const double* __restrict g, const Store& store) {
+  const int n4 = NH4 > 0 ? NH4 : n4_dynamic;
+#pragma omp parallel for schedule(static) if (n > kParallelRows)
+  for (int i = 0; i < n; ++i) {
+    const double* bi = b + static_cast<std::ptrdiff_t>(i) * n4;
+    double x = c0[3 * i], y = c0[3 * i + 1], z = c0[3 * i + 2];
+#pragma omp simd reduction(+ : x, y, z)
+    for (int j = 0; j < n4; ++j) {
+      x += bi[j] * g[3 * j];
+      y += bi[j] * g[3 * j + 1];
+      z += bi[j] * g[3 * j + 2];
+    }
+    store(i, x, y, z);
+  }
+}
+
+}  // namespace
+
+BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings)
+    : n_vertices_(mesh.n_vertices()) {
+  auto t = Clock::now();
+  BcmSystem sys = assemble_bcm_system(mesh, mesh.positions(), regions, settings);
+  stats_.assembly_ms = ms_since(t);
+  stats_.symmetric = sys.symmetric;
+  stats_.free = static_cast<int>(sys.free.size());
+  stats_.constrained = static_cast<int>(sys.constrained.size());
+  free_ = std::move(sys.free);
+
+  t = Clock::now();
+  const SparseSolver solver(sys.a_pp, sys.symmetric, settings.solver);
+  stats_.factorization_ms = ms_since(t);
+  stats_.solver = solver.name();
+
+  t = Clock::now();
+  // Virtual frame per movable handle: centroid c and c + s e_i, s = extent (> 0).
+  const int n_mov = regions.n_movable();
+  frames_.resize(static_cast<std::size_t>(n_mov));
+  centroids_.resize(static_cast<std::size_t>(n_mov));
+  std::vector<double> extent(static_cast<std::size_t>(n_mov), 1.0);
+  for (std::size_t h = 0; h < regions.handles().size(); ++h) {
+    const int m = regions.movable_index(static_cast<int>(h));
+    if (m < 0) continue;
+    const auto& vs = regions.handles()[h].vertices;
+    Vec3 c = Vec3::Zero();
+    for (Vertex v : vs) c += mesh.position(v);
+    c /= static_cast<double>(vs.size());
+    double s = 0.0;
+    for (Vertex v : vs) s = std::max(s, (mesh.position(v) - c).norm());
+    if (!(s > 0.0)) {  // a single vertex (or coincident ones): mean edge length around it
+      double sum = 0.0;
+      int cnt = 0;
+      for (Halfedge he : mesh.outgoing(vs.front())) {
+        sum += (mesh.position(mesh.to_vertex(he)) - mesh.position(vs.front())).norm();
+        ++cnt;
+      }
+      s = cnt > 0 && sum > 0.0 ? sum / cnt : 1.0;
+    }
+    const auto mi = static_cast<std::size_t>(m);
+    centroids_[mi] = c;
+    extent[mi] = s;
+    frames_[mi] = {c, c + s * Vec3::UnitX(), c + s * Vec3::UnitY(), c + s * Vec3::UnitZ()};
+    for (Vertex v : vs) {
+      handle_vertices_.push_back(v);
+      handle_owner_.push_back(m);
+      handle_rest_.push_back(mesh.position(v));
+    }
+  }
+
+  // Constrained values: rest positions (fixed, immovable handles) in columns 0-2, and
+  // Q_m (affine coordinates in the frame, rows sum to 1) in columns 3 + 4m .. 3 + 4m + 3.
+  const int n_c = static_cast<int>(sys.constrained.size());
+  Eigen::MatrixXd xc = Eigen::MatrixXd::Zero(n_c, 3 + 4 * n_mov);
+  for (int j = 0; j < n_c; ++j) {
+    const Vertex v = sys.constrained[static_cast<std::size_t>(j)];
+    const int h = regions.handle_of(v);
+    const int m = h >= 0 ? regions.movable_index(h) : -1;
+    if (m < 0) {
+      xc.row(j).head<3>() = mesh.position(v).transpose();
+    } else {
+      const auto mi = static_cast<std::size_t>(m);
+      const Vec3 a = (mesh.position(v) - centroids_[mi]) / extent[mi];
+      xc(j, 3 + 4 * m) = 1.0 - a.sum();
+      xc.row(j).segment<3>(3 + 4 * m + 1) = a.transpose();
+    }
+  }
+  const Eigen::MatrixXd rhs = -(sys.a_pc * xc);
+  const Eigen::MatrixXd x = solver.solve(rhs);  // one call, all 3 + 4M right-hand sides
+  stats_.residual = solver.relative_residual(x, rhs);
+  constant_ = x.leftCols(3);
+  basis_ = x.rightCols(4 * n_mov);
+  if (n_mov > kStackHandles) scratch_.resize(static_cast<std::size_t>(12 * n_mov));
+  stats_.basis_ms = ms_since(t);
+}
+
+int BcmSolver::n_free() const { return static_cast<int>(free_.size()); }
+int BcmSolver::n_movable() const { return static_cast<int>(frames_.size()); }
+const std::vector<Vertex>& BcmSolver::free_vertices() const { return free_; }
+
+Vec3 BcmSolver::handle_centroid(int movable) const {
+  if (movable < 0 || movable >= n_movable())
+    throw InvalidInput("movable handle index " + std::to_string(movable) + " is out of range (" +
+                       std::to_string(n_movable()) + " movable handles)");
+  return centroids_[static_cast<std::size_t>(movable)];
+}
+
+const double* BcmSolver::frame_matrix(std::span<const Eigen::Affine3d> transforms, double* stack_buffer) const {
+  const int n_mov = n_movable();
+  if (static_cast<int>(transforms.size()) != n_mov)
+    throw InvalidInput("evaluate: got " + std::to_string(transforms.size()) + " transforms for " +
+                       std::to_string(n_mov) + " movable handles");
+  double* g = n_mov <= kStackHandles ? stack_buffer : scratch_.data();
+  for (int m = 0; m < n_mov; ++m) {
+    const Eigen::Affine3d& tm = transforms[static_cast<std::size_t>(m)];
+    if (!tm.matrix().allFinite()) throw InvalidInput("evaluate: transform " + std::to_string(m) + " is not finite");
+    for (int j = 0; j < 4; ++j) {
+      const Vec3 y = tm * frames_[static_cast<std::size_t>(m)][static_cast<std::size_t>(j)];
+      for (int d = 0; d < 3; ++d) g[12 * m + 3 * j + d] = y[d];
+    }
+  }
+  return g;
+}
+
+template <class Store>
+void BcmSolver::run(const double* g, const Store& store) const {
+  const int n = n_free();
+  const int n4 = 4 * n_movable();
+  const double* b = basis_.data();
+  const double* c0 = constant_.data();
+  switch (n4) {
+    case 0: kernel<0>(n, 0, b, c0, g, store); break;
+    case 4: kernel<4>(n, 4, b, c0, g, store); break;
+    case 8: kernel<8>(n, 8, b, c0, g, store); break;
+    case 12: kernel<12>(n, 12, b, c0, g, store); break;
+    default: kernel<0>(n, n4, b, c0, g, store); break;
+  }
+}
+
+void BcmSolver::evaluate(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out) const {
+  if (out.rows() != n_free())
+    throw InvalidInput("evaluate: output has " + std::to_string(out.rows()) + " rows, expected " +
+                       std::to_string(n_free()) + " (one per free vertex)");
+  double buffer[12 * kStackHandles];
+  const double* g = frame_matrix(transforms, buffer);
+  double* o = out.data();
+  const Eigen::Index stride = out.outerStride();
+  run(g, [o, stride](int i, double x, double y, double z) {
+    double* r = o + i * stride;
+    r[0] = x;
+    r[1] = y;
+    r[2] = z;
+  });
+}
+
+void BcmSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
+  if (positions.size() != static_cast<std::size_t>(n_vertices_))
+    throw InvalidInput("evaluate: positions have " + std::to_string(positions.size()) + " entries, the mesh has " +
+                       std::to_string(n_vertices_) + " vertices");
+  double buffer[12 * kStackHandles];
+  const double* g = frame_matrix(transforms, buffer);
+  Vec3* pos = positions.raw().data();
+  const Vertex* fv = free_.data();
+  run(g, [pos, fv](int i, double x, double y, double z) { pos[fv[i].idx()] = Vec3(x, y, z); });
+  for (std::size_t i = 0; i < handle_vertices_.size(); ++i)
+    positions[handle_vertices_[i]] = transforms[static_cast<std::size_t>(handle_owner_[i])] * handle_rest_[i];
+}
+
+}  // namespace freeform

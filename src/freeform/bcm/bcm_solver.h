@@ -45,10 +45,17 @@ class BcmSolver {
   const BcmStats& stats() const { return stats_; }
 
   // Positions of the free vertices (P x 3, row i = free_vertices()[i]) for one affine map per
-  // movable handle. No allocation; parallel over rows. out must be P x 3.
+  // movable handle (transforms.size() == n_movable(), T_m applied to the rest frame).
+  // No allocation; parallel over rows (OpenMP, static schedule). out must be P x 3.
+  // Throws InvalidInput on a wrong count, wrong out size or a non-finite transform.
+  // Thread safety: concurrent calls on one solver are safe for up to kStackHandles movable
+  // handles (the 4M x 3 frame matrix lives on the stack); with more, a preallocated member is
+  // used and evaluate() must not be called concurrently on the same solver.
   void evaluate(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out) const;
-  // Writes the free and movable-handle vertices of `positions` (#V entries); others untouched.
+  // Writes the free and movable-handle vertices of `positions` (#V entries; handle vertices
+  // move rigidly, h' = T_m(h)); fixed and immovable-handle vertices are untouched.
   void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
+  static constexpr int kStackHandles = 32;
 
   // The precomputed parts (tests, multiresolution).
   const RowMatrixX3d& constant_part() const { return constant_; }
@@ -67,6 +74,12 @@ class BcmSolver {
   std::vector<Vertex> handle_vertices_;
   std::vector<int> handle_owner_;
   std::vector<Vec3> handle_rest_;
+  int n_vertices_ = 0;
+  mutable std::vector<double> scratch_;  // 12 M doubles, only if M > kStackHandles (see evaluate)
+
+  const double* frame_matrix(std::span<const Eigen::Affine3d> transforms, double* stack_buffer) const;
+  template <class Store>
+  void run(const double* g, const Store& store) const;
 };
 
 }  // namespace freeform

@@ -1,1 +1,309 @@
-// placeholder
+// Local assembly of the BCM system (DESIGN.md sections 2-3). Only the k-ring neighbourhood of
+// the free vertices is touched: cotangents and mixed areas on the faces incident to the
+// (k-1)-ring, then S_k = L Lam_{k-1} D L ... Lam_1 D L as sparse products on that patch.
+#include "freeform/bcm/bcm_system.h"
+
+#include "freeform/common/error.h"
+#include "freeform/numerics/sparse_solver.h"
+#include "freeform/operators/face_geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace freeform {
+namespace {
+
+using SpRow = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+// The patch: free vertices first (regions order), then the constrained ones ring by ring.
+struct Patch {
+  std::vector<Vertex> order;  // local index -> vertex
+  std::vector<int> dist;      // ring distance from the free set
+  VertexData<int> local;      // vertex -> local index, -1 outside
+  int n_free = 0;
+  int n_inner = 0;            // local indices [0, n_inner) have ring distance <= k-1
+};
+
+Patch build_patch(const Mesh& mesh, const std::vector<Vertex>& free, int k) {
+  Patch p;
+  p.local = VertexData<int>(static_cast<std::size_t>(mesh.n_vertices()), -1);
+  p.n_free = static_cast<int>(free.size());
+  p.order = free;
+  p.dist.assign(free.size(), 0);
+  for (int i = 0; i < p.n_free; ++i) p.local[free[static_cast<std::size_t>(i)]] = i;
+  std::size_t begin = 0;
+  p.n_inner = k == 1 ? p.n_free : -1;
+  for (int d = 1; d <= k; ++d) {
+    const std::size_t end = p.order.size();
+    for (std::size_t i = begin; i < end; ++i) {
+      for (Halfedge h : mesh.outgoing(p.order[i])) {
+        const Vertex w = mesh.to_vertex(h);
+        if (p.local[w] >= 0) continue;
+        p.local[w] = static_cast<int>(p.order.size());
+        p.order.push_back(w);
+        p.dist.push_back(d);
+      }
+    }
+    if (d == k - 1) p.n_inner = static_cast<int>(p.order.size());
+    begin = end;
+  }
+  return p;
+}
+
+// A connected part of the free region (through free-free edges) with no constrained vertex in
+// its one-ring makes A_pp singular: refuse it before factoring.
+void check_constrained_reach(const Mesh& mesh, const Regions& regions, const Patch& p) {
+  std::vector<int> comp(static_cast<std::size_t>(p.n_free), -1);
+  std::vector<int> stack;
+  for (int s = 0; s < p.n_free; ++s) {
+    if (comp[static_cast<std::size_t>(s)] >= 0) continue;
+    bool constrained = false;
+    comp[static_cast<std::size_t>(s)] = s;
+    stack.assign(1, s);
+    while (!stack.empty()) {
+      const int i = stack.back();
+      stack.pop_back();
+      for (Halfedge h : mesh.outgoing(p.order[static_cast<std::size_t>(i)])) {
+        const Vertex w = mesh.to_vertex(h);
+        if (regions.role(w) != Role::Free) {
+          constrained = true;
+          continue;
+        }
+        const int j = p.local[w];
+        if (comp[static_cast<std::size_t>(j)] < 0) {
+          comp[static_cast<std::size_t>(j)] = s;
+          stack.push_back(j);
+        }
+      }
+    }
+    if (!constrained) {
+      throw InvalidInput("the support covers a whole component of the mesh: free vertex " +
+                         std::to_string(p.order[static_cast<std::size_t>(s)].idx()) +
+                         " and the free vertices connected to it have no fixed or handle vertex next to them, so "
+                         "their position is undetermined; add a handle or shrink the support");
+    }
+  }
+}
+
+// Compressed sparse rows; the intermediate products stay in this form (no Eigen copies).
+struct Csr {
+  int rows = 0, cols = 0;
+  std::vector<int> outer{0};
+  std::vector<int> inner;
+  std::vector<double> value;
+  int row_size(int i) const { return outer[static_cast<std::size_t>(i) + 1] - outer[static_cast<std::size_t>(i)]; }
+};
+
+// Rows [0, rows) of lhs * diag(w) * rhs (Gustavson, dense accumulator, sorted rows). Columns of
+// lhs beyond rhs.rows are empty rows of rhs (vertices whose row is never needed).
+Csr scaled_product(const Csr& lhs, const Eigen::VectorXd& w, const Csr& rhs, int rows) {
+  Csr out;
+  out.rows = rows;
+  out.cols = rhs.cols;
+  std::size_t bound = 0;  // upper bound of the result size: reserve once, touch what is used
+  for (int t = 0; t < lhs.outer[static_cast<std::size_t>(rows)]; ++t) {
+    const int j = lhs.inner[static_cast<std::size_t>(t)];
+    if (j < rhs.rows) bound += static_cast<std::size_t>(rhs.row_size(j));
+  }
+  out.inner.reserve(bound);
+  out.value.reserve(bound);
+  out.outer.reserve(static_cast<std::size_t>(rows) + 1);
+  std::vector<double> acc(static_cast<std::size_t>(rhs.cols), 0.0);
+  std::vector<int> mark(static_cast<std::size_t>(rhs.cols), -1);
+  std::vector<int> cols;
+  for (int i = 0; i < rows; ++i) {
+    cols.clear();
+    for (int t = lhs.outer[static_cast<std::size_t>(i)]; t < lhs.outer[static_cast<std::size_t>(i) + 1]; ++t) {
+      const int j = lhs.inner[static_cast<std::size_t>(t)];
+      if (j >= rhs.rows) continue;
+      const double f = lhs.value[static_cast<std::size_t>(t)] * w[j];
+      if (f == 0.0) continue;
+      for (int u = rhs.outer[static_cast<std::size_t>(j)]; u < rhs.outer[static_cast<std::size_t>(j) + 1]; ++u) {
+        const auto col = static_cast<std::size_t>(rhs.inner[static_cast<std::size_t>(u)]);
+        if (mark[col] != i) {
+          mark[col] = i;
+          acc[col] = 0.0;
+          cols.push_back(static_cast<int>(col));
+        }
+        acc[col] += f * rhs.value[static_cast<std::size_t>(u)];
+      }
+    }
+    std::sort(cols.begin(), cols.end());
+    for (int col : cols) {
+      out.inner.push_back(col);
+      out.value.push_back(acc[static_cast<std::size_t>(col)]);
+    }
+    out.outer.push_back(static_cast<int>(out.inner.size()));
+  }
+  return out;
+}
+
+// Columns [c0, c1) of a CSR matrix as a column-major Eigen matrix, scaled by `sign`.
+Eigen::SparseMatrix<double> column_block(const Csr& x, int c0, int c1, double sign) {
+  std::vector<int> outer(static_cast<std::size_t>(x.rows) + 1, 0);
+  std::vector<int> inner;
+  std::vector<double> value;
+  inner.reserve(x.inner.size());
+  value.reserve(x.inner.size());
+  for (int i = 0; i < x.rows; ++i) {
+    for (int t = x.outer[static_cast<std::size_t>(i)]; t < x.outer[static_cast<std::size_t>(i) + 1]; ++t) {
+      const int col = x.inner[static_cast<std::size_t>(t)];
+      const double v = x.value[static_cast<std::size_t>(t)];
+      if (col < c0 || col >= c1 || (c0 > 0 && v == 0.0)) continue;  // drop exact zeros of A_pc
+      inner.push_back(col - c0);
+      value.push_back(sign * v);
+    }
+    outer[static_cast<std::size_t>(i) + 1] = static_cast<int>(inner.size());
+  }
+  const Eigen::Map<const SpRow> view(x.rows, c1 - c0, static_cast<Eigen::Index>(inner.size()), outer.data(),
+                                     inner.data(), value.data());
+  return Eigen::SparseMatrix<double>(view);  // one transposing copy to column major
+}
+
+int row_count(const Patch& p, int max_dist) {
+  int n = 0;
+  while (n < static_cast<int>(p.dist.size()) && p.dist[static_cast<std::size_t>(n)] <= max_dist) ++n;
+  return n;
+}
+
+}  // namespace
+
+BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& positions, const Regions& regions,
+                              const BcmSettings& settings) {
+  validate_settings(settings);
+  const int k = settings.order;
+  const int nv = mesh.n_vertices();
+  if (regions.n_vertices() != nv)
+    throw InvalidInput("the regions were made for a mesh with " + std::to_string(regions.n_vertices()) +
+                       " vertices, but this mesh has " + std::to_string(nv));
+  if (positions.size() != static_cast<std::size_t>(nv))
+    throw InvalidInput("assemble_bcm_system: positions have " + std::to_string(positions.size()) +
+                       " entries but the mesh has " + std::to_string(nv) + " vertices");
+  for (const auto& [v, c] : settings.smoothness.overrides) {
+    if (v.idx() < 0 || v.idx() >= nv)
+      throw InvalidInput("a boundary smoothness override names vertex " + std::to_string(v.idx()) +
+                         ", but the mesh has " + std::to_string(nv) + " vertices");
+  }
+
+  BcmSystem sys;
+  sys.free = regions.free_vertices();
+  const Patch p = build_patch(mesh, sys.free, k);
+  const int n_free = p.n_free;
+  const int n_loc = static_cast<int>(p.order.size());
+  const int n_inner = p.n_inner;
+  check_constrained_reach(mesh, regions, p);
+  for (Vertex v : p.order)
+    if (!positions[v].allFinite())
+      throw InvalidInput("vertex " + std::to_string(v.idx()) + " has a non-finite position");
+
+  // Faces incident to the (k-1)-ring: every weight and area the rows need.
+  std::vector<int> faces;
+  for (int i = 0; i < n_inner; ++i)
+    for (Halfedge h : mesh.outgoing(p.order[static_cast<std::size_t>(i)])) {
+      const Face f = mesh.face(h);
+      if (f.is_valid()) faces.push_back(f.idx());
+    }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+
+  // Per assembled face: the cotangent opposite each of its three halfedges, and the areas.
+  FaceData<int> local_face(static_cast<std::size_t>(mesh.n_faces()), -1);
+  std::vector<std::array<double, 3>> face_cot(faces.size(), {0.0, 0.0, 0.0});
+  Eigen::VectorXd area = Eigen::VectorXd::Zero(n_loc);
+  double total_area = 0.0;
+  for (std::size_t fl = 0; fl < faces.size(); ++fl) {
+    const Face f(faces[fl]);
+    local_face[f] = static_cast<int>(fl);
+    const detail::FaceCorners c = detail::face_corners(mesh, f);
+    const detail::TriangleGeometry g = detail::triangle_geometry(positions[c.v[0]], positions[c.v[1]], positions[c.v[2]]);
+    if (g.degenerate) {
+      ++sys.degenerate_faces;
+      continue;
+    }
+    // face_corners: corner q lies opposite c.h[q], and c.h = (halfedge(f), next, next).
+    for (int q = 0; q < 3; ++q) {
+      double cot = g.cot(q);
+      if (std::abs(cot) > detail::kCotClamp) {
+        cot = std::copysign(detail::kCotClamp, cot);
+        ++sys.clamped_cotangents;
+      }
+      face_cot[fl][static_cast<std::size_t>(q)] = cot;
+    }
+    // Mixed Voronoi area (Meyer et al. 2003), as in operators/mixed_area.cpp.
+    const double a = 0.5 * g.double_area;
+    total_area += a;
+    int obtuse = -1;
+    for (int q = 0; q < 3; ++q)
+      if (g.dot[static_cast<std::size_t>(q)] < 0.0) obtuse = q;
+    for (int q = 0; q < 3; ++q) {
+      const auto q1 = static_cast<std::size_t>((q + 1) % 3);
+      const auto q2 = static_cast<std::size_t>((q + 2) % 3);
+      const double contribution =
+          obtuse < 0 ? (g.sq_len[q2] * g.cot(static_cast<int>(q2)) + g.sq_len[q1] * g.cot(static_cast<int>(q1))) / 8.0
+                     : (obtuse == q ? 0.5 * a : 0.25 * a);
+      area[p.local[c.v[static_cast<std::size_t>(q)]]] += contribution;
+    }
+  }
+  auto half_cot = [&](Halfedge h) {  // cotangent opposite h in its face (0 on the mesh boundary)
+    const Face f = mesh.face(h);
+    if (!f.is_valid()) return 0.0;
+    const Halfedge h0 = mesh.halfedge(f);
+    const int q = h == h0 ? 0 : h == mesh.next(h0) ? 1 : 2;
+    return face_cot[static_cast<std::size_t>(local_face[f])][static_cast<std::size_t>(q)];
+  };
+
+  // L rows of the (k-1)-ring (columns: the whole patch), straight from the adjacency.
+  Csr lap;
+  lap.rows = n_inner;
+  lap.cols = n_loc;
+  lap.outer.reserve(static_cast<std::size_t>(n_inner) + 1);
+  lap.inner.reserve(static_cast<std::size_t>(n_inner) * 8);
+  lap.value.reserve(static_cast<std::size_t>(n_inner) * 8);
+  std::vector<std::pair<int, double>> row;
+  for (int i = 0; i < n_inner; ++i) {
+    row.clear();
+    double diagonal = 0.0;
+    for (Halfedge h : mesh.outgoing(p.order[static_cast<std::size_t>(i)])) {
+      const double wgt = half_cot(h) + half_cot(mesh.opposite(h));
+      row.emplace_back(p.local[mesh.to_vertex(h)], wgt);
+      diagonal -= wgt;
+    }
+    row.emplace_back(i, diagonal);
+    std::sort(row.begin(), row.end());
+    for (const auto& [col, v] : row) {
+      lap.inner.push_back(col);
+      lap.value.push_back(v);
+    }
+    lap.outer.push_back(static_cast<int>(lap.inner.size()));
+  }
+
+  // Smoothness c per patch vertex and the weights Lam_m D of each level.
+  std::vector<double> c(static_cast<std::size_t>(n_loc), k - 1.0);
+  const double outer = resolved_outer(settings);
+  const double inner = resolved_inner(settings);
+  for (int i = n_free; i < n_loc; ++i)
+    c[static_cast<std::size_t>(i)] = regions.role(p.order[static_cast<std::size_t>(i)]) == Role::Fixed ? outer : inner;
+  for (const auto& [v, cv] : settings.smoothness.overrides)
+    if (p.local[v] >= n_free) c[static_cast<std::size_t>(p.local[v])] = cv;
+  const double area_floor = 1e-12 * (n_inner > 0 && total_area > 0.0 ? total_area / n_inner : 1.0);
+
+  // S_k rows of the free vertices: X_1 = L, X_{m+1} = L Lam_m D X_m (rows shrink ring by ring).
+  Csr x;
+  const Csr* s_rows = &lap;  // k = 1: the (k-1)-ring is the free set, so lap has exactly its rows
+  for (int m = 1; m <= k - 1; ++m) {
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(n_loc);
+    for (int i = 0; i < n_inner; ++i)
+      w[i] = smoothness_lambda(c[static_cast<std::size_t>(i)], m) / (2.0 * std::max(area[i], area_floor));
+    x = scaled_product(lap, w, *s_rows, m == k - 1 ? n_free : row_count(p, k - 1 - m));
+    s_rows = &x;
+  }
+  const double sign = k % 2 == 1 ? -1.0 : 1.0;
+  sys.a_pp = column_block(*s_rows, 0, n_free, sign);
+  sys.a_pc = column_block(*s_rows, n_free, n_loc, sign);
+  sys.constrained.assign(p.order.begin() + n_free, p.order.end());
+  sys.symmetric = is_symmetric(sys.a_pp);
+  return sys;
+}
+
+}  // namespace freeform

@@ -18,16 +18,22 @@ namespace freeform {
 
 struct BcmSystem {
   std::vector<Vertex> free;         // P: row and column order of A_pp (= regions.free_vertices())
-  std::vector<Vertex> constrained;  // C: constrained vertices within k rings of the free ones
-  Eigen::SparseMatrix<double> a_pp;  // P by P
-  Eigen::SparseMatrix<double> a_pc;  // P by C
+  std::vector<Vertex> constrained;  // C: constrained vertices within k rings of the free ones,
+                                    //    ring by ring (column order of A_pc)
+  Eigen::SparseMatrix<double> a_pp;  // P by P (structural zeros from lambda = 0 kept)
+  Eigen::SparseMatrix<double> a_pc;  // P by C (exact zeros dropped)
   bool symmetric = false;            // checked numerically (is_symmetric), never assumed
   int degenerate_faces = 0;          // operator diagnostics on the assembled faces
   int clamped_cotangents = 0;
 };
 
-// Throws InvalidInput (settings out of range) or InvalidInput naming a vertex if a connected
-// part of the free region has no constraint within reach (the system would be singular).
+// Cost: O(size of the k-ring of the free set) plus O(#V + #F) for index arrays. Cotangents
+// and mixed areas come only from the faces incident to the (k-1)-ring (same degenerate-face
+// policy as operators.h). Smoothness overrides on free vertices are ignored.
+// Throws InvalidInput (settings out of range, regions or positions of another size, a
+// non-finite position in the patch, an override naming a vertex outside the mesh) or
+// InvalidInput naming a vertex if a connected part of the free region (through free-free
+// edges) has no constrained vertex in its one-ring (the system would be singular).
 // `positions`: where cotangents and areas come from (the rest shape; for anisotropic bending
 // a parametrization embedded in z = 0).
 BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& positions, const Regions& regions,

@@ -1,1 +1,50 @@
-// placeholder
+// 9-dof manipulators and checked affine maps (DESIGN.md section 4).
+#include "freeform/bcm/manipulator.h"
+
+#include "freeform/common/error.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace freeform {
+
+Eigen::Quaterniond Manipulator::axis_angle(const Vec3& axis, double degrees) {
+  if (!axis.allFinite() || !std::isfinite(degrees))
+    throw InvalidInput("rotation axis and angle must be finite numbers");
+  const double n = axis.norm();
+  if (!(n > 0.0)) throw InvalidInput("rotation axis is the zero vector; give a direction such as (0, 0, 1)");
+  return Eigen::Quaterniond(Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, axis / n));
+}
+
+Eigen::Affine3d Manipulator::to_affine(const Vec3& default_pivot) const {
+  const Vec3 p = pivot.value_or(default_pivot);
+  if (!translation.allFinite() || !rotation.coeffs().allFinite() || !scale.allFinite() || !p.allFinite())
+    throw InvalidInput("manipulator has a non-finite translation, rotation, scale or pivot");
+  const double qn = rotation.norm();
+  if (!(qn > 1e-12)) throw InvalidInput("manipulator rotation is a zero quaternion; use the identity (1, 0, 0, 0)");
+  if (!(scale.cwiseAbs().minCoeff() > 1e-12))
+    throw InvalidInput("manipulator scale has a zero component; the transform would be singular");
+  const Eigen::Matrix3d rs = (Eigen::Quaterniond(rotation.coeffs() / qn).toRotationMatrix()) * scale.asDiagonal();
+  Eigen::Affine3d t = Eigen::Affine3d::Identity();
+  t.linear() = rs;
+  t.translation() = p + translation - rs * p;
+  return t;
+}
+
+Eigen::Affine3d affine_from_matrix(const Eigen::Matrix4d& m) {
+  if (!m.allFinite()) throw InvalidInput("transform matrix has non-finite entries");
+  const Eigen::RowVector4d last = m.row(3);
+  if ((last - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-12)
+    throw InvalidInput("transform matrix is not affine: its last row must be (0 0 0 1)");
+  const Eigen::Matrix3d lin = m.topLeftCorner<3, 3>();
+  const double scale = lin.colwise().norm().maxCoeff();
+  const double det = lin.determinant();
+  if (!(scale > 0.0) || !(std::abs(det) > 1e-12 * scale * scale * scale))
+    throw InvalidInput("transform matrix is singular (its 3x3 linear part is not invertible)");
+  Eigen::Affine3d t = Eigen::Affine3d::Identity();
+  t.matrix() = m;
+  t.matrix().row(3) << 0, 0, 0, 1;
+  return t;
+}
+
+}  // namespace freeform

@@ -10,10 +10,13 @@
 namespace freeform {
 
 // Boundary smoothness c in [0, k-1] per constrained vertex: c = 0 is C0 (a crease),
-// c = k-1 full C^(k-1). Negative outer/inner mean "k-1" (the default).
+// c = k-1 full C^(k-1). outer/inner equal to kDefault (-1) mean "k-1" (the default); any other
+// value outside [0, k-1] is refused by validate_settings. Overrides on free vertices are
+// ignored (free vertices always have c = k-1).
 struct Smoothness {
-  double outer = -1.0;  // fixed vertices (outside the support)
-  double inner = -1.0;  // handle vertices (movable and immovable)
+  static constexpr double kDefault = -1.0;
+  double outer = kDefault;  // fixed vertices (outside the support)
+  double inner = kDefault;  // handle vertices (movable and immovable)
   std::vector<std::pair<Vertex, double>> overrides;  // per constrained vertex, wins over outer/inner
 };
 
@@ -28,7 +31,13 @@ struct BcmSettings {
 };
 
 // Throws InvalidInput naming the value: order not in {1,2,3}, smoothness outside [0, k-1]
-// or not finite.
+// (other than the kDefault sentinel for outer/inner) or not finite, an override naming an
+// invalid vertex handle.
 void validate_settings(const BcmSettings& settings);
+
+// The smoothness of a constrained vertex with role Fixed (`handle` false) or Handle (`handle`
+// true), before overrides: outer/inner with kDefault resolved to k-1.
+double resolved_outer(const BcmSettings& settings);
+double resolved_inner(const BcmSettings& settings);
 
 }  // namespace freeform

@@ -1,1 +1,234 @@
-// placeholder
+// SparseSolver: CHOLMOD supernodal LLT / UMFPACK LU when SuiteSparse is available, Eigen's
+// SimplicialLDLT / SparseLU otherwise (or when forced). Failures become SolverError.
+#include "freeform/numerics/sparse_solver.h"
+
+#include "freeform/common/error.h"
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
+#if FREEFORM_HAVE_SUITESPARSE
+#include <Eigen/CholmodSupport>
+#include <Eigen/UmfPackSupport>
+#endif
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <type_traits>
+#include <variant>
+#include <vector>
+
+namespace freeform {
+
+using SpMat = Eigen::SparseMatrix<double>;
+
+bool is_symmetric(const SpMat& a, double tol) {
+  if (a.rows() != a.cols()) return false;
+  double max_abs = 0.0;
+  for (int j = 0; j < a.outerSize(); ++j)
+    for (SpMat::InnerIterator it(a, j); it; ++it) max_abs = std::max(max_abs, std::abs(it.value()));
+  if (max_abs == 0.0) return true;
+  const double bound = tol * max_abs;
+  // Column j of A^T is row j of A: merge it with column j of A (both sorted by row index).
+  const SpMat at = a.transpose();
+  for (int j = 0; j < a.outerSize(); ++j) {
+    SpMat::InnerIterator p(a, j);
+    SpMat::InnerIterator q(at, j);
+    while (p || q) {
+      double d;
+      if (p && q && p.index() == q.index()) {
+        d = p.value() - q.value();
+        ++p;
+        ++q;
+      } else if (p && (!q || p.index() < q.index())) {
+        d = p.value();
+        ++p;
+      } else {
+        d = q.value();
+        ++q;
+      }
+      if (!(std::abs(d) <= bound)) return false;
+    }
+  }
+  return true;
+}
+
+namespace {
+
+using Ldlt = Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
+using Lu = Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>>;
+#if FREEFORM_HAVE_SUITESPARSE
+using Cholmod = Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower>;
+using Umf = Eigen::UmfPackLU<SpMat>;
+#endif
+
+const char* kind_name(SolverKind k) {
+  switch (k) {
+    case SolverKind::CholmodSupernodal: return "cholmod-supernodal-llt";
+    case SolverKind::EigenLDLT: return "eigen-simplicial-ldlt";
+    case SolverKind::Umfpack: return "umfpack-lu";
+    case SolverKind::EigenSparseLU: return "eigen-sparselu";
+    case SolverKind::Auto: break;
+  }
+  return "auto";
+}
+
+bool is_cholesky(SolverKind k) { return k == SolverKind::CholmodSupernodal || k == SolverKind::EigenLDLT; }
+
+}  // namespace
+
+struct SparseSolver::Impl {
+  SpMat a;  // kept for the residual check
+  SolverKind kind = SolverKind::Auto;
+#if FREEFORM_HAVE_SUITESPARSE
+  std::variant<std::monostate, Ldlt, Lu, Cholmod, Umf> f;
+#else
+  std::variant<std::monostate, Ldlt, Lu> f;
+#endif
+  std::string failure;  // why the preferred solver failed (for the message)
+
+  // Factor with one kind; returns an empty string on success, else the reason.
+  std::string try_factor(SolverKind k) {
+    kind = k;
+    switch (k) {
+      case SolverKind::EigenLDLT: {
+        auto& s = f.emplace<Ldlt>();
+        s.compute(a);
+        if (s.info() != Eigen::Success) return "zero pivot: the matrix is singular";
+        const Eigen::VectorXd d = s.vectorD();
+        if (!d.allFinite()) return "non-finite pivot";
+        if (d.size() > 0 && !(d.minCoeff() > 0.0)) return "the matrix is not positive definite (pivot <= 0)";
+        return {};
+      }
+      case SolverKind::EigenSparseLU: {
+        auto& s = f.emplace<Lu>();
+        s.compute(a);
+        if (s.info() != Eigen::Success) return "the matrix is singular (" + s.lastErrorMessage() + ")";
+        return {};
+      }
+#if FREEFORM_HAVE_SUITESPARSE
+      case SolverKind::CholmodSupernodal: {
+        auto& s = f.emplace<Cholmod>();
+        s.cholmod().print = 0;  // failures are reported through SolverError, not stderr
+        s.cholmod().supernodal = CHOLMOD_SUPERNODAL;
+        s.compute(a);
+        if (s.info() != Eigen::Success) return "the matrix is singular or not positive definite";
+        return {};
+      }
+      case SolverKind::Umfpack: {
+        auto& s = f.emplace<Umf>();
+        s.compute(a);
+        if (s.info() != Eigen::Success) return "the matrix is singular";
+        return {};
+      }
+#else
+      case SolverKind::CholmodSupernodal:
+      case SolverKind::Umfpack:
+        return "SuiteSparse is not available in this build";
+#endif
+      case SolverKind::Auto: break;
+    }
+    return "unknown solver kind";
+  }
+};
+
+SparseSolver::SparseSolver(const SpMat& a, bool symmetric, SolverKind kind) : impl_(std::make_unique<Impl>()) {
+  if (a.rows() != a.cols() || a.rows() == 0)
+    throw InvalidInput("SparseSolver: the matrix must be square and non-empty (got " + std::to_string(a.rows()) + " x " +
+                       std::to_string(a.cols()) + ")");
+  for (int j = 0; j < a.outerSize(); ++j)
+    for (SpMat::InnerIterator it(a, j); it; ++it)
+      if (!std::isfinite(it.value())) throw SolverError("SparseSolver: the matrix has non-finite entries");
+  if (symmetric && !is_symmetric(a, 1e-10))
+    throw InvalidInput("SparseSolver: the matrix was declared symmetric but is not");
+  if (!symmetric && is_cholesky(kind))
+    throw InvalidInput(std::string("SparseSolver: ") + kind_name(kind) +
+                       " needs a symmetric matrix; this one is unsymmetric (use umfpack or eigen-sparselu)");
+  impl_->a = a;
+  impl_->a.makeCompressed();
+
+  // Order of attempts: the forced kind alone, or the fast SuiteSparse one then Eigen's.
+  std::vector<SolverKind> order;
+  if (kind != SolverKind::Auto) {
+    order = {kind};
+#if !FREEFORM_HAVE_SUITESPARSE
+    // Forced SuiteSparse kind without SuiteSparse: use the Eigen counterpart (name() says so).
+    if (kind == SolverKind::CholmodSupernodal) order = {SolverKind::EigenLDLT};
+    if (kind == SolverKind::Umfpack) order = {SolverKind::EigenSparseLU};
+#endif
+  } else if (symmetric) {
+#if FREEFORM_HAVE_SUITESPARSE
+    order = {SolverKind::CholmodSupernodal, SolverKind::EigenLDLT};
+#else
+    order = {SolverKind::EigenLDLT};
+#endif
+  } else {
+#if FREEFORM_HAVE_SUITESPARSE
+    order = {SolverKind::Umfpack, SolverKind::EigenSparseLU};
+#else
+    order = {SolverKind::EigenSparseLU};
+#endif
+  }
+  std::string reasons;
+  for (SolverKind k : order) {
+    const std::string why = impl_->try_factor(k);
+    if (why.empty()) return;
+    reasons += std::string(reasons.empty() ? "" : "; ") + kind_name(k) + ": " + why;
+  }
+  impl_->f = std::monostate{};
+  throw SolverError("sparse factorization of a " + std::to_string(a.rows()) + " x " + std::to_string(a.cols()) +
+                    " matrix failed (" + reasons + ")");
+}
+
+SparseSolver::~SparseSolver() = default;
+SparseSolver::SparseSolver(SparseSolver&&) noexcept = default;
+SparseSolver& SparseSolver::operator=(SparseSolver&&) noexcept = default;
+
+Eigen::MatrixXd SparseSolver::solve(const Eigen::MatrixXd& b) const {
+  if (b.rows() != impl_->a.rows())
+    throw InvalidInput("SparseSolver::solve: right-hand side has " + std::to_string(b.rows()) + " rows, expected " +
+                       std::to_string(impl_->a.rows()));
+  if (!b.allFinite()) throw InvalidInput("SparseSolver::solve: right-hand side has non-finite entries");
+  Eigen::MatrixXd x;
+  bool ok = true;
+  std::visit(
+      [&](auto& s) {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, std::monostate>) {
+          ok = false;
+        } else {
+          x = s.solve(b);
+          ok = s.info() == Eigen::Success;
+        }
+      },
+      impl_->f);
+  if (!ok) throw SolverError(std::string("SparseSolver::solve: ") + kind_name(impl_->kind) + " failed to solve");
+  if (!x.allFinite())
+    throw SolverError(std::string("SparseSolver::solve: ") + kind_name(impl_->kind) +
+                      " produced non-finite values; the matrix is (numerically) singular");
+  // Backward-error check: catches a numerically singular matrix the factorization missed.
+  for (Eigen::Index j = 0; j < b.cols(); ++j) {
+    const double bn = b.col(j).norm();
+    const double r = (impl_->a * x.col(j) - b.col(j)).norm();
+    const double scale = bn > 0.0 ? bn : 1.0;
+    if (!(r <= 1e-6 * scale))
+      throw SolverError(std::string("SparseSolver::solve: ") + kind_name(impl_->kind) + " residual " +
+                        std::to_string(r / scale) + " is too large; the matrix is (numerically) singular");
+  }
+  return x;
+}
+
+double SparseSolver::relative_residual(const Eigen::MatrixXd& x, const Eigen::MatrixXd& b) const {
+  double worst = 0.0;
+  for (Eigen::Index j = 0; j < b.cols(); ++j) {
+    const double bn = b.col(j).norm();
+    const double r = (impl_->a * x.col(j) - b.col(j)).norm();
+    worst = std::max(worst, bn > 0.0 ? r / bn : r);
+  }
+  return worst;
+}
+
+SolverKind SparseSolver::kind() const { return impl_->kind; }
+std::string SparseSolver::name() const { return kind_name(impl_->kind); }
+
+}  // namespace freeform

@@ -19,16 +19,22 @@ bool is_symmetric(const Eigen::SparseMatrix<double>& a, double tol = 1e-12);
 class SparseSolver {
  public:
   // Factors A. `symmetric` selects the family; `kind` forces one solver (Auto: the fast one,
-  // with the Eigen fallback if the SuiteSparse one is unavailable or fails to factor).
-  // Throws SolverError with a clear message if the matrix is singular or (for Cholesky) not
-  // positive definite.
+  // with the Eigen fallback if the SuiteSparse one is unavailable or fails to factor; a forced
+  // SuiteSparse kind in a build without SuiteSparse uses its Eigen counterpart).
+  // Throws SolverError with a clear message if the matrix is singular, has non-finite entries
+  // or (for Cholesky) is not positive definite; InvalidInput if it is not square, is declared
+  // symmetric but is not (tolerance 1e-10), or a Cholesky kind is forced on an unsymmetric one.
   SparseSolver(const Eigen::SparseMatrix<double>& a, bool symmetric, SolverKind kind = SolverKind::Auto);
   ~SparseSolver();
   SparseSolver(SparseSolver&&) noexcept;
   SparseSolver& operator=(SparseSolver&&) noexcept;
 
-  // X = A^-1 B (B: n by m). Throws SolverError if the result is not finite.
+  // X = A^-1 B (B: n by m). Throws SolverError if the result is not finite or its relative
+  // residual |A x - b| / |b| exceeds 1e-6 in some column (numerically singular matrix).
   Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const;
+
+  // max over columns of |A x_j - b_j| / |b_j| (|A x_j - b_j| where b_j = 0).
+  double relative_residual(const Eigen::MatrixXd& x, const Eigen::MatrixXd& b) const;
 
   SolverKind kind() const;
   std::string name() const;  // e.g. "cholmod-supernodal-llt"
