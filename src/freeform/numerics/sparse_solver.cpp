@@ -117,6 +117,9 @@ struct SparseSolver::Impl {
       }
       case SolverKind::Umfpack: {
         auto& s = f.emplace<Umf>();
+        // Iterative refinement (default 2 steps) made the basis solves as slow as the
+        // factorization; the residual check in solve() still guards accuracy.
+        s.umfpackControl()(UMFPACK_IRSTEP) = 0;
         s.compute(a);
         if (s.info() != Eigen::Success) return "the matrix is singular";
         return {};
