@@ -1,11 +1,10 @@
 // End-to-end tests of the `freeform` executable: output, exit codes, no partial files.
 #include "freeform/io/mesh_io.h"
-#include "test_support.h"
+#include "cli/cli_runner.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
 
 #include <array>
 #include <cstdio>
@@ -13,31 +12,9 @@
 
 using namespace freeform;
 using ::testing::HasSubstr;
+using namespace freeform::test;
 
 namespace {
-
-struct CliRun {
-  int exit_code;
-  std::string out, err;
-};
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-// Runs `freeform ARGS` through the shell, capturing stdout and stderr.
-CliRun freeform_cli(const std::string& args) {
-  test::ScratchDir tmp;
-  const std::string cmd = std::string(FREEFORM_CLI_PATH) + " " + args + " >" + (tmp / "out").string() + " 2>" +
-                          (tmp / "err").string();
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(tmp / "out"), slurp(tmp / "err")};
-}
-
-std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
-
-void write_text(const std::filesystem::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
 const char* kTetraObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
 

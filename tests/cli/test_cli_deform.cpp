@@ -1,40 +1,19 @@
 // End-to-end tests of `freeform deform`: outputs, report, exit codes, no partial files.
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/generators.h"
-#include "test_support.h"
+#include "cli/cli_runner.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
 
 #include <fstream>
 
 using namespace freeform;
 using ::testing::HasSubstr;
+using namespace freeform::test;
 
 namespace {
-
-struct CliRun {
-  int exit_code;
-  std::string out, err;
-};
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-CliRun freeform_cli(const std::string& args) {
-  test::ScratchDir tmp;
-  const std::string cmd = std::string(FREEFORM_CLI_PATH) + " " + args + " >" + (tmp / "out").string() + " 2>" +
-                          (tmp / "err").string();
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(tmp / "out"), slurp(tmp / "err")};
-}
-
-std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
-void write_text(const std::filesystem::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
 std::size_t count_files(const std::filesystem::path& dir) {
   std::size_t n = 0;

@@ -494,21 +494,7 @@ std::string write_ply(const TriangleSoup& soup, bool binary) {
     return out;
   }
   out.reserve(out.size() + soup.positions.size() * 64 + soup.faces.size() * 32);
-  for (const Vec3& p : soup.positions) {
-    for (int k = 0; k < 3; ++k) {
-      if (k > 0) out += ' ';
-      io_detail::append_number(out, p[k]);
-    }
-    out += '\n';
-  }
-  for (const Tri& f : soup.faces) {
-    out += '3';
-    for (int v : f) {
-      out += ' ';
-      io_detail::append_number(out, static_cast<std::int64_t>(v));
-    }
-    out += '\n';
-  }
+  io_detail::append_ascii_vertices_and_faces(out, soup);
   return out;
 }
 

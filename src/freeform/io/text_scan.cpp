@@ -133,4 +133,22 @@ void append_number(std::string& out, std::int64_t value) {
   out.append(buf, ptr);
 }
 
+void append_ascii_vertices_and_faces(std::string& out, const TriangleSoup& soup) {
+  for (const Vec3& p : soup.positions) {
+    for (int k = 0; k < 3; ++k) {
+      if (k > 0) out += ' ';
+      append_number(out, p[k]);
+    }
+    out += '\n';
+  }
+  for (const Tri& f : soup.faces) {
+    out += '3';
+    for (int v : f) {
+      out += ' ';
+      append_number(out, static_cast<std::int64_t>(v));
+    }
+    out += '\n';
+  }
+}
+
 }  // namespace freeform::io_detail

@@ -161,4 +161,7 @@ void append_number(std::string& out, double value);
 void append_number(std::string& out, float value);
 void append_number(std::string& out, std::int64_t value);
 
+// One "x y z" line per vertex, then one "3 i j k" line per face (the OFF and ascii PLY body).
+void append_ascii_vertices_and_faces(std::string& out, const TriangleSoup& soup);
+
 }  // namespace freeform::io_detail
