@@ -64,10 +64,7 @@ EdgeData<double> cotan_weights(const Mesh& mesh, OperatorDiagnostics* diag) {
   return accumulate_weights(mesh, mesh.positions(), diag);
 }
 
-SparseMatrix cotan_laplacian(const Mesh& mesh, const VertexData<Vec3>& positions, OperatorDiagnostics* diag) {
-  detail::check_positions(mesh, positions, "cotan_laplacian");
-  const EdgeData<double> weight = accumulate_weights(mesh, positions, diag);
-
+SparseMatrix laplacian_from_edge_weights(const Mesh& mesh, const EdgeData<double>& weight) {
   // One triplet per edge and direction (edges are unique) plus the diagonal: no duplicates,
   // and every mesh edge is a structural entry even where its weight is 0.
   const int n = mesh.n_vertices();
@@ -88,6 +85,11 @@ SparseMatrix cotan_laplacian(const Mesh& mesh, const VertexData<Vec3>& positions
   SparseMatrix L(n, n);
   L.setFromTriplets(triplets.begin(), triplets.end());
   return L;
+}
+
+SparseMatrix cotan_laplacian(const Mesh& mesh, const VertexData<Vec3>& positions, OperatorDiagnostics* diag) {
+  detail::check_positions(mesh, positions, "cotan_laplacian");
+  return laplacian_from_edge_weights(mesh, accumulate_weights(mesh, positions, diag));
 }
 
 SparseMatrix cotan_laplacian(const Mesh& mesh, OperatorDiagnostics* diag) {

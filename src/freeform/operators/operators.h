@@ -48,6 +48,9 @@ Eigen::VectorXd mixed_voronoi_areas(const Mesh& mesh, const VertexData<Vec3>& po
 // The diagonal of D = diag(1 / (2 A_i)) (0 where A_i == 0, i.e. isolated vertices).
 Eigen::VectorXd inverse_double_areas(const Eigen::VectorXd& areas);
 
+// L_ij = w_ij for every edge, L_ii = -sum_j w_ij (#V by #V, symmetric; every edge is stored).
+SparseMatrix laplacian_from_edge_weights(const Mesh& mesh, const EdgeData<double>& weights);
+
 // Uniform (graph) Laplacian: U_ij = 1 for neighbours, U_ii = -valence.
 SparseMatrix uniform_laplacian(const Mesh& mesh);
 
