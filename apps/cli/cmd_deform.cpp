@@ -9,6 +9,7 @@
 #include "freeform/io/file_util.h"
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/mesh.h"
+#include "freeform/multires/multires_solver.h"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -18,6 +19,7 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace freeform::cli {
@@ -55,6 +57,20 @@ double median_evaluate_ms(const BcmSolver& solver, const std::vector<Eigen::Affi
   return times[kEvaluateRepeats / 2];
 }
 
+// Median time of repeated multiresolution reconstructions (base + normals + detail), warm.
+double median_reconstruct_ms(const MultiresSolver& solver, const std::vector<Eigen::Affine3d>& transforms,
+                             VertexData<Vec3> positions) {
+  std::vector<double> times;
+  times.reserve(kEvaluateRepeats);
+  for (int i = 0; i < kEvaluateRepeats; ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    solver.evaluate(transforms, positions);
+    times.push_back(ms_since(t0));
+  }
+  std::nth_element(times.begin(), times.begin() + kEvaluateRepeats / 2, times.end());
+  return times[kEvaluateRepeats / 2];
+}
+
 double peak_memory_mb() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
@@ -77,12 +93,26 @@ void run(const DeformOptions& opt) {
                                      : read_edit_file(opt.edit, mesh);
   check_edit_available(edit);
   const Regions regions = edit_regions(mesh, edit);
-  const BcmSolver solver(mesh, regions, edit.settings);
+  // Multiresolution (the default) keeps the detail in the support; its BcmSolver is the base.
+  std::optional<MultiresSolver> multires;
+  std::optional<BcmSolver> plain;
+  if (edit.multiresolution)
+    multires.emplace(mesh, regions, solver_settings(edit));
+  else
+    plain.emplace(mesh, regions, solver_settings(edit));
+  const BcmSolver& solver = multires ? multires->bcm() : *plain;
   const std::vector<Eigen::Affine3d> transforms = edit_transforms(edit, solver);
   const double evaluate_ms = median_evaluate_ms(solver, transforms);
 
   VertexData<Vec3> positions = mesh.positions();
-  solver.evaluate(transforms, positions);
+  const double reconstruct_ms = multires ? median_reconstruct_ms(*multires, transforms, positions) : 0.0;
+  MultiresProblems problems;
+  if (multires) {
+    multires->evaluate(transforms, positions);
+    problems = multires->problems(positions);
+  } else {
+    solver.evaluate(transforms, positions);
+  }
   TriangleSoup soup = std::move(read.soup);
   for (std::size_t i = 0; i < soup.positions.size(); ++i) soup.positions[i] = positions[Vertex(static_cast<int>(i))];
   for (const Vec3& p : soup.positions)
@@ -109,6 +139,22 @@ void run(const DeformOptions& opt) {
        {{"assembly", st.assembly_ms}, {"factorization", st.factorization_ms}, {"basis", st.basis_ms}, {"evaluate", evaluate_ms}}},
       {"evaluate_repeats", kEvaluateRepeats},
       {"residual", st.residual},
+      {"anisotropic",
+       {{"requested", solver_settings(edit).anisotropic},
+        {"used", st.anisotropic},
+        {"principal_extents", {st.principal_extents[0], st.principal_extents[1]}},
+        {"fallback", st.anisotropic_fallback.empty() ? nlohmann::json(nullptr) : nlohmann::json(st.anisotropic_fallback)},
+        {"parametrization_ms", st.parametrization_ms}}},
+      {"multiresolution",
+       multires ? nlohmann::json({{"decomposition_ms", multires->stats().decomposition_ms},
+                                  {"reconstruct_ms", reconstruct_ms},
+                                  {"reconstruct_repeats", kEvaluateRepeats},
+                                  {"normal_encoded", multires->stats().normal_encoded},
+                                  {"fallback", multires->stats().fallback},
+                                  {"max_height", multires->stats().max_height},
+                                  {"flipped_triangles", problems.flipped},
+                                  {"overlaps", problems.overlaps}})
+                : nlohmann::json(nullptr)},
       {"peak_memory_mb", peak_memory_mb()},
   };
 
@@ -129,6 +175,19 @@ void run(const DeformOptions& opt) {
   fmt::print("wrote {} ({} vertices, {} faces): order {}, {} free, {} fixed, {} handles; solver {}, evaluate {:.3f} ms\n",
              opt.out, soup.positions.size(), soup.faces.size(), k, regions.n_free(), regions.n_fixed(),
              regions.handles().size(), st.solver, evaluate_ms);
+  if (st.anisotropic)
+    fmt::print("anisotropic bending: principal extents {:.4g} x {:.4g} equalized (parametrization {:.1f} ms)\n",
+               st.principal_extents[0], st.principal_extents[1], st.parametrization_ms);
+  else if (!st.anisotropic_fallback.empty())
+    fmt::print(stderr, "warning: anisotropic bending fell back to the isotropic operator: {}\n", st.anisotropic_fallback);
+  if (multires) {
+    const MultiresStats& ms = multires->stats();
+    fmt::print("multiresolution: decomposition {:.1f} ms, reconstruct {:.3f} ms; {} normal-encoded, {} fallback vertices\n",
+               ms.decomposition_ms, reconstruct_ms, ms.normal_encoded, ms.fallback);
+    if (!problems.ok())
+      fmt::print(stderr, "warning: the bend is too tight for the detail: {} flipped triangles, {} overlapping vertices\n",
+                 problems.flipped, problems.overlaps);
+  }
   if (!opt.report.empty()) fmt::print("wrote {}\n", opt.report);
 }
 

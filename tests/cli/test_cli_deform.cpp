@@ -2,6 +2,7 @@
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/generators.h"
 #include "cli/cli_runner.h"
+#include "param/param_fixtures.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -83,7 +84,45 @@ TEST(CliDeform, EditWritesMeshAndReport) {
   EXPECT_LT(j["residual"].get<double>(), 1e-6);
   ASSERT_TRUE(j["peak_memory_mb"].is_number());
   EXPECT_GT(j["peak_memory_mb"].get<double>(), 0.0);
+  // Multiresolution is the default: decomposition, reconstruction time, fallback and problem counts.
+  ASSERT_TRUE(j["multiresolution"].is_object());
+  for (const char* key : {"decomposition_ms", "reconstruct_ms", "max_height"}) {
+    ASSERT_TRUE(j["multiresolution"][key].is_number()) << key;
+    EXPECT_GE(j["multiresolution"][key].get<double>(), 0.0) << key;
+  }
+  EXPECT_EQ(j["multiresolution"]["reconstruct_repeats"], 51);
+  EXPECT_EQ(j["multiresolution"]["normal_encoded"].get<int>() + j["multiresolution"]["fallback"].get<int>(),
+            j["counts"]["free"].get<int>());
+  EXPECT_EQ(j["multiresolution"]["flipped_triangles"], 0);
+  EXPECT_EQ(j["multiresolution"]["overlaps"], 0);
+  EXPECT_THAT(r.out, HasSubstr("multiresolution: decomposition"));
   EXPECT_EQ(count_files(s.dir.path()), 4u);  // mesh, edit, output, report: no temporaries
+}
+
+// "multiresolution": false gives plain BCM (the support is the fair surface: bumps flattened)
+// and a null "multiresolution" entry; the default keeps the bumps.
+TEST(CliDeform, MultiresolutionKeepsDetailAndCanBeTurnedOff) {
+  const Workspace s;
+  write_mesh((s.dir / "bumpy.off").string(), make_bumpy_plane(30, 30, 0.02, 3));
+  const std::string edit = R"({"support": {"sphere": {"center": [0.5, 0.5, 0], "radius": 0.35}},
+      "handles": [{"region": {"sphere": {"center": [0.5, 0.5, 0], "radius": 0.08}}, "transform": {"translate": [0, 0, 0.1]}}])";
+  const auto run = [&](const std::string& extra, const std::string& name) {
+    const CliRun r = freeform_cli("deform " + q(s.dir / "bumpy.off") + " --edit " + q(s.edit(edit + extra + "}", name + ".json")) +
+                                  " -o " + q(s.dir / (name + ".off")) + " --report " + q(s.dir / (name + ".report.json")));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(slurp(s.dir / (name + ".report.json")));
+  };
+  const auto jm = run("", "multires"), jp = run(R"(, "multiresolution": false)", "plain");
+  EXPECT_TRUE(jm["multiresolution"].is_object());
+  EXPECT_TRUE(jp["multiresolution"].is_null());
+  const ReadResult in = read_mesh((s.dir / "bumpy.off").string()), m = read_mesh((s.dir / "multires.off").string()),
+                   p = read_mesh((s.dir / "plain.off").string());
+  // Plain BCM smooths the bumps in the support away, multires keeps them (amplitude 0.02).
+  double max_diff = 0;
+  for (std::size_t v = 0; v < in.soup.positions.size(); ++v)
+    max_diff = std::max(max_diff, std::abs(m.soup.positions[v].z() - p.soup.positions[v].z()));
+  EXPECT_GT(max_diff, 0.01);
+  EXPECT_EQ(m.soup.positions[0], in.soup.positions[0]);  // fixed corner
 }
 
 TEST(CliDeform, SelDefPair) {
@@ -130,8 +169,6 @@ TEST(CliDeform, BadEditsExitOneAndWriteNothing) {
        "zero scale"},
       {R"({"support": {"vertices": [22]}, "handles": [{"region": {"vertices": [23]}, "transfrom": {}}]})",
        "unknown key \"handles[0].transfrom\""},
-      {R"({"support": {"vertices": [22]}, "anisotropic": true})", "not available yet"},
-      {R"({"support": {"vertices": [22]}, "multiresolution": true})", "not available yet"},
       {"{\n  \"support\": {\"vertices\": [22]},\n  \"order\": 2,,\n}", "edit.json:3: malformed JSON at column"},
   };
   const Workspace s;
@@ -199,4 +236,42 @@ TEST(CliDeform, UsageErrorsExitTwo) {
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_THAT(help.out, HasSubstr("Exit codes"));
   EXPECT_EQ(count_files(s.dir.path()), 2u);
+}
+
+// "anisotropic": true: the report says whether the operator was used, the principal extents
+// and why it fell back (on stderr too: never silently).
+TEST(CliDeform, AnisotropicReportAndFallback) {
+  const Workspace s;
+  std::string edit = kGoodEdit;
+  edit.insert(edit.find('{') + 1, R"("anisotropic": true,)");
+  const auto report = s.dir / "report.json";
+  CliRun r = freeform_cli("deform " + q(s.mesh) + " --edit " + q(s.edit(edit)) + " -o " + q(s.dir / "out.off") +
+                          " --report " + q(report));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("anisotropic bending: principal extents"));
+  auto j = nlohmann::json::parse(slurp(report));
+  EXPECT_EQ(j["anisotropic"]["requested"], true);
+  EXPECT_EQ(j["anisotropic"]["used"], true);
+  EXPECT_TRUE(j["anisotropic"]["fallback"].is_null());
+  ASSERT_EQ(j["anisotropic"]["principal_extents"].size(), 2u);
+  EXPECT_GT(j["anisotropic"]["principal_extents"][0].get<double>(), 0.5);
+  EXPECT_GE(j["anisotropic"]["parametrization_ms"].get<double>(), 0.0);
+
+  // A torus whose support contains its handle: genus 1, isotropic operator, reason reported.
+  const auto torus = s.dir / "torus.off";
+  write_mesh(torus.string(), test::torus(16, 8));
+  std::string support;
+  for (int i = 10; i < 128; ++i) support += (i > 10 ? "," : "") + std::to_string(i);
+  r = freeform_cli("deform " + q(torus) + " --edit " +
+                   q(s.edit(R"({"anisotropic": true, "support": {"vertices": [)" + support +
+                                R"(]}, "handles": [{"region": {"vertices": [70]}, "transform": {"translate": [0, 0, 0.1]}}]})",
+                            "torus.json")) +
+                   " -o " + q(s.dir / "torus_out.off") + " --report " + q(report));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("anisotropic bending fell back to the isotropic operator"));
+  EXPECT_THAT(r.err, HasSubstr("genus 1"));
+  j = nlohmann::json::parse(slurp(report));
+  EXPECT_EQ(j["anisotropic"]["requested"], true);
+  EXPECT_EQ(j["anisotropic"]["used"], false);
+  EXPECT_THAT(j["anisotropic"]["fallback"].get<std::string>(), HasSubstr("genus 1"));
 }

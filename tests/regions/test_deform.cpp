@@ -104,15 +104,25 @@ TEST(Deform, MatrixAndFixedHandles) {
 
 TEST(Deform, RefusesWhatIsNotAvailableOrNotSolvable) {
   Fixture f(2);
-  f.edit.anisotropic = true;
-  EXPECT_THAT([&] { (void)deform(f.mesh, f.edit); }, ::testing::ThrowsMessage<InvalidInput>(HasSubstr("not available yet")));
+  f.edit.anisotropic = true;  // available (tests/anisotropic): the edit goes through
+  BcmStats stats;
+  EXPECT_NO_THROW((void)deform(f.mesh, f.edit, &stats));
+  EXPECT_TRUE(stats.anisotropic || !stats.anisotropic_fallback.empty());
   f.edit.anisotropic = false;
-  f.edit.multiresolution = true;
-  EXPECT_THAT([&] { (void)deform(f.mesh, f.edit); }, ::testing::ThrowsMessage<InvalidInput>(HasSubstr("not available yet")));
 
   // A closed sphere whose support is every vertex and that has no handle: nothing holds it.
   const Mesh sphere = Mesh::from_soup(make_icosphere(1));
   Edit all;
   for (Vertex v : sphere.vertices()) all.support.push_back(v);
   EXPECT_THROW((void)deform(sphere, all), InvalidInput);
+}
+
+// Multiresolution is the default; on a flat patch there is no detail, so it equals plain BCM.
+TEST(Deform, MultiresolutionIsTheDefaultAndMatchesPlainBcmWithoutDetail) {
+  Fixture f(2);
+  EXPECT_TRUE(f.edit.multiresolution);
+  const Mesh multires = deform(f.mesh, f.edit);
+  f.edit.multiresolution = false;
+  const Mesh plain = deform(f.mesh, f.edit);
+  for (Vertex v : f.mesh.vertices()) EXPECT_LT((multires.position(v) - plain.position(v)).norm(), 1e-12) << v.idx();
 }

@@ -4,6 +4,7 @@
 
 #include "freeform/common/error.h"
 #include "freeform/numerics/sparse_solver.h"
+#include "freeform/param/anisotropic.h"
 
 #include <chrono>
 #include <cmath>
@@ -41,8 +42,21 @@ void kernel(int n, int n4_dynamic, const double* __restrict b, const double* __r
 
 BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings)
     : n_vertices_(mesh.n_vertices()) {
+  // Anisotropic bending: the operator's cotangents and areas come from the equalized
+  // conformal map of the support grown by k rings (DESIGN.md section 5).
+  AnisotropicDomain domain;
+  if (settings.anisotropic) {
+    std::vector<Vertex> support;
+    for (Vertex v : mesh.vertices())
+      if (v.idx() < regions.n_vertices() && regions.role(v) != Role::Fixed) support.push_back(v);
+    domain = anisotropic_domain(mesh, support, settings.order);
+    stats_.anisotropic = domain.used;
+    stats_.principal_extents = domain.extents;
+    stats_.anisotropic_fallback = domain.fallback;
+    stats_.parametrization_ms = domain.ms;
+  }
   auto t = Clock::now();
-  BcmSystem sys = assemble_bcm_system(mesh, mesh.positions(), regions, settings);
+  BcmSystem sys = assemble_bcm_system(mesh, domain.used ? domain.positions : mesh.positions(), regions, settings);
   stats_.assembly_ms = ms_since(t);
   stats_.symmetric = sys.symmetric;
   stats_.free = static_cast<int>(sys.free.size());

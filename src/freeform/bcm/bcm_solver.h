@@ -29,6 +29,13 @@ struct BcmStats {
   int constrained = 0;     // C: constrained vertices in the system
   double assembly_ms = 0, factorization_ms = 0, basis_ms = 0;
   double residual = 0;     // max over right-hand sides of |A_pp X - B| / |B| (relative)
+  // Anisotropic bending (settings.anisotropic; param/anisotropic.h): whether its operator was
+  // used, the principal extents (major, minor) of the conformal map before equalizing, why it
+  // fell back to the isotropic operator (empty if used or not requested), its wall time.
+  bool anisotropic = false;
+  std::array<double, 2> principal_extents{0.0, 0.0};
+  std::string anisotropic_fallback;
+  double parametrization_ms = 0;
 };
 
 class BcmSolver {

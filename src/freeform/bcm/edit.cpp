@@ -21,15 +21,10 @@ std::vector<Eigen::Affine3d> edit_transforms(const Edit& edit, const BcmSolver& 
   return out;
 }
 
-Mesh deform(const Mesh& mesh, const Edit& edit, BcmStats* stats) {
-  check_edit_available(edit);
-  const Regions regions = edit_regions(mesh, edit);
-  const BcmSolver solver(mesh, regions, edit.settings);
-  const std::vector<Eigen::Affine3d> transforms = edit_transforms(edit, solver);
-  Mesh out = mesh;
-  solver.evaluate(transforms, out.positions());
-  if (stats) *stats = solver.stats();
-  return out;
+BcmSettings solver_settings(const Edit& edit) {
+  BcmSettings s = edit.settings;
+  s.anisotropic = s.anisotropic || edit.anisotropic;
+  return s;
 }
 
 }  // namespace freeform

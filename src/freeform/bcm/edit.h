@@ -23,14 +23,19 @@ struct Edit {
   BcmSettings settings;
   std::vector<Vertex> support;
   std::vector<EditHandle> handles;
-  bool anisotropic = false;      // not yet available: true throws InvalidInput
-  bool multiresolution = false;  // not yet available: true throws InvalidInput
+  bool anisotropic = false;      // anisotropic bending (docs/anisotropic.md): see solver_settings
+  bool multiresolution = true;   // detail-preserving editing (docs/multires.md); the default
 };
+
+// The solver settings of the edit: `settings` with anisotropic = settings.anisotropic || anisotropic.
+BcmSettings solver_settings(const Edit& edit);
 
 // The affine map of each movable handle (default pivot: the handle centroid).
 std::vector<Eigen::Affine3d> edit_transforms(const Edit& edit, const BcmSolver& solver);
 
 // Applies the edit to a copy of the mesh (vertex order and faces kept). Fills stats if given.
+// With edit.multiresolution the detail inside the support is kept (MultiresSolver).
+// Implemented in freeform_multires (src/freeform/multires/deform.cpp): link it to call this.
 Mesh deform(const Mesh& mesh, const Edit& edit, BcmStats* stats = nullptr);
 
 }  // namespace freeform

@@ -327,11 +327,8 @@ Edit edit_from_sel_def(const std::string& sel_path, const std::string& def_path,
   return e;
 }
 
-void check_edit_available(const Edit& edit) {
-  if (edit.anisotropic)
-    throw InvalidInput("anisotropic bending is not available yet: set \"anisotropic\": false (or leave it out)");
-  if (edit.multiresolution)
-    throw InvalidInput("multiresolution editing is not available yet: set \"multiresolution\": false (or leave it out)");
+void check_edit_available(const Edit& /*edit*/) {
+  // Everything an edit file can express is available (anisotropic, multiresolution).
 }
 
 Regions edit_regions(const Mesh& mesh, const Edit& edit) {

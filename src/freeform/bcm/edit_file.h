@@ -32,7 +32,7 @@ Edit parse_edit(const nlohmann::json& j, const Mesh& mesh, const std::string& na
 // movable handle = label 2 moved by the .def matrix. order in {1, 2, 3}, default smoothness.
 Edit edit_from_sel_def(const std::string& sel_path, const std::string& def_path, int order, const Mesh& mesh);
 
-// Throws InvalidInput for what deform() cannot do yet (anisotropic, multiresolution).
+// Throws InvalidInput for what deform() cannot do yet (multiresolution).
 void check_edit_available(const Edit& edit);
 
 // The Regions of an edit: its support and its handles in file order (fixed -> immovable).

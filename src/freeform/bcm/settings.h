@@ -28,6 +28,10 @@ struct BcmSettings {
   int order = 2;  // k: 1 membrane, 2 thin plate, 3 minimal curvature variation
   Smoothness smoothness;
   SolverKind solver = SolverKind::Auto;  // Auto: by the symmetry check (section 3)
+  // Anisotropic bending (section 5, docs/anisotropic.md): cotangents and areas from the
+  // equalized conformal map of the support grown by k rings; falls back to the isotropic
+  // operator (reason in BcmStats) for genus > 0 or flipped parameter triangles.
+  bool anisotropic = false;
 };
 
 // Throws InvalidInput naming the value: order not in {1,2,3}, smoothness outside [0, k-1]

@@ -1,0 +1,360 @@
+// MultiresSolver: decomposition (base + per-vertex encoding) once, reconstruction per frame
+// (DESIGN.md section 6, docs/multires.md).
+#include "freeform/multires/multires_solver.h"
+
+#include "freeform/common/error.h"
+#include "freeform/mesh/traversal.h"
+#include "freeform/multires/normal_displacement.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace freeform {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+// Loops shorter than this run on one thread (thread start-up costs more than the work).
+constexpr int kParallelRows = 4096;
+// Steps of the descent to the base vertex nearest to a detail point.
+constexpr int kMaxDescent = 64;
+// A detail triangle is checked for flips if |cos(detail normal, base normal)| > this at rest.
+constexpr double kFacingCosine = 0.2;
+
+using Map3 = Eigen::Map<const Vec3>;
+
+void validate_options(const MultiresOptions& o) {
+  if (o.search_rings < 1 || o.search_rings > 8)
+    throw InvalidInput("multiresolution: search_rings must be in [1, 8], got " + std::to_string(o.search_rings));
+  if (!(o.barycentric_tolerance >= 0.0 && o.barycentric_tolerance < 0.5))
+    throw InvalidInput("multiresolution: barycentric_tolerance must be in [0, 0.5)");
+}
+
+}  // namespace
+
+MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
+                               const MultiresOptions& options)
+    : bcm_((validate_options(options), mesh), regions, settings), n_vertices_(mesh.n_vertices()) {
+  const auto t0 = Clock::now();
+  const std::vector<Vertex>& free = bcm_.free_vertices();
+  n_free_ = static_cast<int>(free.size());
+  const int rings = options.search_rings;
+
+  // --- local vertices: free (BCM order), movable handle vertices, then constant ones ---
+  // The candidate search starts at the base vertex nearest to x_i, found by a descent that stays
+  // within one ring of the free vertices; candidate faces lie within `rings` rings of it. So
+  // normals are recomputed within rings + 1 rings of the free vertices (this includes the
+  // support's first ring), and positions are needed one ring further.
+  const int normal_rings = rings + 1;
+  const VertexData<int> dist = ring_distance(mesh, free, normal_rings + 1);
+  VertexData<int> local(static_cast<std::size_t>(n_vertices_), -1);
+  auto add_local = [&](Vertex v) {
+    if (local[v] >= 0) return;
+    local[v] = static_cast<int>(local_global_.size());
+    local_global_.push_back(v.idx());
+  };
+  for (Vertex v : free) add_local(v);
+  for (std::size_t h = 0; h < regions.handles().size(); ++h) {
+    const int m = regions.movable_index(static_cast<int>(h));
+    if (m < 0) continue;
+    for (Vertex v : regions.handles()[h].vertices) {
+      add_local(v);
+      handle_owner_.push_back(m);
+      handle_rest_.push_back(mesh.position(v));
+    }
+  }
+  n_moving_ = static_cast<int>(local_global_.size());
+  for (Vertex v : mesh.vertices())
+    if (dist[v] >= 0) add_local(v);
+  const int n_local = static_cast<int>(local_global_.size());
+
+  // --- local faces: every face with a corner whose normal is recomputed ---
+  FaceData<int> local_face(static_cast<std::size_t>(mesh.n_faces()), -1);
+  for (Face f : mesh.faces()) {
+    const auto vs = mesh.vertices(f);
+    if (std::none_of(vs.begin(), vs.end(), [&](Vertex v) { return dist[v] >= 0 && dist[v] <= normal_rings; })) continue;
+    local_face[f] = static_cast<int>(faces_.size());
+    faces_.push_back({local[vs[0]], local[vs[1]], local[vs[2]]});
+    if (std::any_of(vs.begin(), vs.end(), [&](Vertex v) { return regions.role(v) == Role::Free; })) {
+      detail_faces_.push_back(local_face[f]);
+      for (Vertex v : vs) detail_face_global_.push_back(v.idx());
+    }
+  }
+  vf_offset_.push_back(0);
+  for (int l = 0; l < n_local; ++l) {
+    const Vertex v(local_global_[static_cast<std::size_t>(l)]);
+    if (!(dist[v] >= 0 && dist[v] <= normal_rings)) continue;
+    normal_vertices_.push_back(l);
+    for (Halfedge he : mesh.outgoing(v))
+      if (const Face f = mesh.face(he); f.is_valid()) vf_faces_.push_back(local_face[f]);
+    vf_offset_.push_back(static_cast<int>(vf_faces_.size()));
+  }
+
+  // --- rest base (identity manipulators) and its normals, with the per-frame code ---
+  base_.resize(n_local, 3);
+  for (int l = n_moving_; l < n_local; ++l)
+    base_.row(l) = mesh.position(Vertex(local_global_[static_cast<std::size_t>(l)])).transpose();
+  fnormal_.resize(static_cast<Eigen::Index>(faces_.size()), 3);
+  normal_.setZero(n_local, 3);
+  const std::vector<Eigen::Affine3d> identity(static_cast<std::size_t>(bcm_.n_movable()), Eigen::Affine3d::Identity());
+  update_base(identity);
+  update_normals();
+
+  // --- encode every free vertex ---
+  codes_.resize(static_cast<std::size_t>(n_free_));
+  const double* B = base_.data();
+  const double* N = normal_.data();
+  const double tol = options.barycentric_tolerance;
+  const bool normal_encoding = options.encoding == MultiresOptions::Encoding::Normal;
+#pragma omp parallel
+  {
+    std::vector<int> seen, frontier, next, cand;
+#pragma omp for schedule(dynamic, 256)
+    for (int i = 0; i < n_free_; ++i) {
+      const Vertex vi = free[static_cast<std::size_t>(i)];
+      const Vec3 x = mesh.position(vi);
+      Code& code = codes_[static_cast<std::size_t>(i)];
+      code.corner = {-1, -1, -1};
+      // Descent to the nearest base vertex (local minimum of |b - x|) within one ring of the free set.
+      Vertex start = vi;
+      double dmin = (Map3(B + 3 * i) - x).squaredNorm();
+      for (int step = 0; step < kMaxDescent; ++step) {
+        Vertex next_v = start;
+        for (Halfedge he : mesh.outgoing(start)) {
+          const Vertex w = mesh.to_vertex(he);
+          if (!(dist[w] >= 0 && dist[w] <= 1)) continue;
+          const double d = (Map3(B + 3 * local[w]) - x).squaredNorm();
+          if (d < dmin) {
+            dmin = d;
+            next_v = w;
+          }
+        }
+        if (next_v == start) break;
+        start = next_v;
+      }
+      bool found = false;
+      if (normal_encoding) {
+        multires::NormalFit best;
+        seen.assign(1, start.idx());
+        frontier.assign(1, start.idx());
+        cand.clear();
+        for (int level = 1; level <= rings && !(found && level > 2); ++level) {
+          // Faces around the vertices at ring distance level - 1 (new ones only).
+          const std::size_t first_new = cand.size();
+          next.clear();
+          for (int g : frontier)
+            for (Halfedge he : mesh.outgoing(Vertex(g))) {
+              if (const Face f = mesh.face(he); f.is_valid() && std::find(cand.begin(), cand.end(), f.idx()) == cand.end())
+                cand.push_back(f.idx());
+              const int to = mesh.to_vertex(he).idx();
+              if (std::find(seen.begin(), seen.end(), to) == seen.end()) {
+                seen.push_back(to);
+                next.push_back(to);
+              }
+            }
+          frontier.swap(next);
+          for (std::size_t k = first_new; k < cand.size(); ++k) {
+            const auto& fc = faces_[static_cast<std::size_t>(local_face[Face(cand[k])])];
+            const multires::NormalFit fit = multires::fit_normal_displacement(
+                x, Map3(B + 3 * fc[0]), Map3(B + 3 * fc[1]), Map3(B + 3 * fc[2]), Map3(N + 3 * fc[0]),
+                Map3(N + 3 * fc[1]), Map3(N + 3 * fc[2]), tol);
+            if (fit.ok && (!best.ok || std::abs(fit.h) < std::abs(best.h))) {
+              best = fit;
+              code.corner = fc;
+            }
+          }
+          found = best.ok;
+        }
+        if (found) {
+          code.w = {best.u, best.v, best.w};
+          code.h = best.h;
+          code.rest_sign = best.det > 0 ? 1 : (best.det < 0 ? -1 : 0);
+        }
+      }
+      if (!found) {
+        // Local frame at the nearest base vertex.
+        const int anchor = local[start];
+        const Vec3 pa = Map3(B + 3 * anchor), n = Map3(N + 3 * anchor);
+        int nbr = -1;
+        double best_len = 0.0;
+        for (Halfedge he : mesh.outgoing(Vertex(local_global_[static_cast<std::size_t>(anchor)]))) {
+          const int l = local[mesh.to_vertex(he)];
+          Vec3 e = Map3(B + 3 * l) - pa;
+          const double len = (e - e.dot(n) * n).norm();
+          if (len > best_len * (1.0 + 1e-12)) {
+            best_len = len;
+            nbr = l;
+          }
+        }
+        const Vec3 d = x - pa;
+        code.corner = {anchor, -1, -1};
+        code.w = {d[0], d[1], d[2]};
+        code.h = 0.0;
+        code.rest_sign = 0;
+        if (nbr >= 0 && n.squaredNorm() > 0.5) {
+          Vec3 e = Map3(B + 3 * nbr) - pa;
+          e = (e - e.dot(n) * n).normalized();
+          const Vec3 b = n.cross(e);
+          code.corner[1] = nbr;
+          code.w = {d.dot(e), d.dot(b), d.dot(n)};
+        }
+      }
+    }
+  }
+
+  for (const Code& c : codes_) {
+    if (c.corner[2] >= 0) {
+      ++stats_.normal_encoded;
+      stats_.max_height = std::max(stats_.max_height, std::abs(c.h));
+      if (c.rest_sign <= 0) ++stats_.rest_folded;
+    } else {
+      ++stats_.fallback;
+    }
+  }
+  stats_.free = n_free_;
+
+  // Rest orientation of the detail triangles against their base triangles.
+  detail_rest_sign_.resize(detail_faces_.size());
+  for (std::size_t k = 0; k < detail_faces_.size(); ++k) {
+    const Vec3 p0 = mesh.position(Vertex(detail_face_global_[3 * k]));
+    const Vec3 p1 = mesh.position(Vertex(detail_face_global_[3 * k + 1]));
+    const Vec3 p2 = mesh.position(Vertex(detail_face_global_[3 * k + 2]));
+    // Only triangles clearly facing along (or against) the base are checked: a detail triangle
+    // nearly perpendicular to its base triangle (walls of sharp features) has no meaningful side.
+    const Vec3 dn = (p1 - p0).cross(p2 - p0), bn = fnormal_.row(detail_faces_[k]).transpose();
+    const double c = dn.dot(bn), scale = dn.norm() * bn.norm();
+    detail_rest_sign_[k] = c > kFacingCosine * scale ? 1 : (c < -kFacingCosine * scale ? -1 : 0);
+  }
+  stats_.decomposition_ms = ms_since(t0);
+}
+
+std::vector<bool> MultiresSolver::fallback_mask() const {
+  std::vector<bool> out(codes_.size());
+  for (std::size_t i = 0; i < codes_.size(); ++i) out[i] = codes_[i].corner[2] < 0;
+  return out;
+}
+
+void MultiresSolver::update_base(std::span<const Eigen::Affine3d> transforms) const {
+  auto top = base_.topRows(n_free_);
+  bcm_.evaluate(transforms, top);  // checks the count and finiteness of the transforms
+  const int n_handle = n_moving_ - n_free_;
+  double* b = base_.data();
+#pragma omp parallel for schedule(static) if (n_handle > kParallelRows)
+  for (int k = 0; k < n_handle; ++k) {
+    const Vec3 y = transforms[static_cast<std::size_t>(handle_owner_[static_cast<std::size_t>(k)])] *
+                   handle_rest_[static_cast<std::size_t>(k)];
+    double* r = b + 3 * static_cast<std::ptrdiff_t>(n_free_ + k);
+    r[0] = y[0];
+    r[1] = y[1];
+    r[2] = y[2];
+  }
+}
+
+void MultiresSolver::update_normals() const {
+  const double* b = base_.data();
+  double* fn = fnormal_.data();
+  const int nf = static_cast<int>(faces_.size());
+  const std::array<int, 3>* faces = faces_.data();
+#pragma omp parallel for schedule(static) if (nf > kParallelRows)
+  for (int f = 0; f < nf; ++f) {
+    const Vec3 p0 = Map3(b + 3 * faces[f][0]);
+    const Vec3 n = (Map3(b + 3 * faces[f][1]) - p0).cross(Map3(b + 3 * faces[f][2]) - p0);  // area weighted
+    fn[3 * f] = n[0];
+    fn[3 * f + 1] = n[1];
+    fn[3 * f + 2] = n[2];
+  }
+  double* vn = normal_.data();
+  const int nv = static_cast<int>(normal_vertices_.size());
+  const int* off = vf_offset_.data();
+  const int* vf = vf_faces_.data();
+  const int* nvs = normal_vertices_.data();
+#pragma omp parallel for schedule(static) if (nv > kParallelRows)
+  for (int k = 0; k < nv; ++k) {
+    Vec3 n = Vec3::Zero();
+    for (int j = off[k]; j < off[k + 1]; ++j) n += Map3(fn + 3 * vf[j]);
+    const double len = n.norm();
+    if (len > 0.0) n /= len;
+    double* r = vn + 3 * nvs[k];
+    r[0] = n[0];
+    r[1] = n[1];
+    r[2] = n[2];
+  }
+}
+
+void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
+  if (positions.size() != static_cast<std::size_t>(n_vertices_))
+    throw InvalidInput("multiresolution evaluate: positions have " + std::to_string(positions.size()) +
+                       " entries, the mesh has " + std::to_string(n_vertices_) + " vertices");
+  update_base(transforms);
+  update_normals();
+  const double* b = base_.data();
+  const double* nn = normal_.data();
+  const Code* codes = codes_.data();
+  const int* glob = local_global_.data();
+  Vec3* out = positions.raw().data();
+  const int n = n_free_;
+#pragma omp parallel for schedule(static) if (n > kParallelRows)
+  for (int i = 0; i < n; ++i) {
+    const Code& c = codes[i];
+    const Vec3 pa = Map3(b + 3 * c.corner[0]);
+    Vec3 x;
+    if (c.corner[2] >= 0) {
+      const Vec3 pb = Map3(b + 3 * c.corner[1]), pc = Map3(b + 3 * c.corner[2]);
+      x = c.w[0] * (pa + c.h * Map3(nn + 3 * c.corner[0])) + c.w[1] * (pb + c.h * Map3(nn + 3 * c.corner[1])) +
+          c.w[2] * (pc + c.h * Map3(nn + 3 * c.corner[2]));
+    } else if (c.corner[1] >= 0) {
+      const Vec3 nrm = Map3(nn + 3 * c.corner[0]);
+      Vec3 e = Map3(b + 3 * c.corner[1]) - pa;
+      e -= e.dot(nrm) * nrm;
+      const double len = e.norm();
+      if (len > 0.0) e /= len;
+      x = pa + c.w[0] * e + c.w[1] * nrm.cross(e) + c.w[2] * nrm;
+    } else {
+      x = pa + Vec3(c.w[0], c.w[1], c.w[2]);
+    }
+    out[glob[i]] = x;
+  }
+  for (int l = n_free_; l < n_moving_; ++l) out[glob[l]] = Map3(b + 3 * l);
+}
+
+MultiresProblems MultiresSolver::problems(const VertexData<Vec3>& positions) const {
+  if (positions.size() != static_cast<std::size_t>(n_vertices_))
+    throw InvalidInput("multiresolution problems: positions have " + std::to_string(positions.size()) +
+                       " entries, the mesh has " + std::to_string(n_vertices_) + " vertices");
+  const double* b = base_.data();
+  const double* nn = normal_.data();
+  const double* fn = fnormal_.data();
+  const Vec3* p = positions.raw().data();
+  int flipped = 0, overlaps = 0;
+  const int nd = static_cast<int>(detail_faces_.size());
+#pragma omp parallel for schedule(static) reduction(+ : flipped) if (nd > kParallelRows)
+  for (int k = 0; k < nd; ++k) {
+    const Vec3& p0 = p[detail_face_global_[3 * static_cast<std::size_t>(k)]];
+    const Vec3& p1 = p[detail_face_global_[3 * static_cast<std::size_t>(k) + 1]];
+    const Vec3& p2 = p[detail_face_global_[3 * static_cast<std::size_t>(k) + 2]];
+    const double d = (p1 - p0).cross(p2 - p0).dot(Map3(fn + 3 * detail_faces_[static_cast<std::size_t>(k)]));
+    if (detail_rest_sign_[static_cast<std::size_t>(k)] > 0 && !(d > 0)) ++flipped;
+  }
+  const int n = n_free_;
+#pragma omp parallel for schedule(static) reduction(+ : overlaps) if (n > kParallelRows)
+  for (int i = 0; i < n; ++i) {
+    const Code& c = codes_[static_cast<std::size_t>(i)];
+    if (c.corner[2] < 0 || c.rest_sign <= 0) continue;
+    const double det = multires::offset_jacobian_det(
+        Map3(b + 3 * c.corner[0]), Map3(b + 3 * c.corner[1]), Map3(b + 3 * c.corner[2]), Map3(nn + 3 * c.corner[0]),
+        Map3(nn + 3 * c.corner[1]), Map3(nn + 3 * c.corner[2]), c.w[0], c.w[1], c.w[2], c.h);
+    if (!(det > 0)) ++overlaps;
+  }
+  return {flipped, overlaps};
+}
+
+void MultiresSolver::base_positions(VertexData<Vec3>& positions) const {
+  if (positions.size() != static_cast<std::size_t>(n_vertices_))
+    throw InvalidInput("multiresolution base_positions: wrong number of positions");
+  for (int l = 0; l < n_moving_; ++l) positions[Vertex(local_global_[static_cast<std::size_t>(l)])] = base_.row(l).transpose();
+}
+
+}  // namespace freeform

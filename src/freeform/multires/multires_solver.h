@@ -1,0 +1,120 @@
+// Multiresolution editing (DESIGN.md section 6; Botsch & Kobbelt 2004, section 5): the support
+// is split into a smooth base (the BCM solution with unmoved handles, same k, smoothness,
+// anisotropy and regions) and detail encoded per free vertex relative to that base. Per frame
+// the base is rebuilt from the precomputed BCM basis, its vertex normals are recomputed in the
+// support and its first ring, and every free vertex is rebuilt from its encoding.
+//
+// Encodings (docs/multires.md):
+//  - normal displacement: base triangle t = (a, b, c), barycentrics (u, v, w), signed height h
+//    with x = sum_corner bary * (corner + h * corner_normal); found by the cubic of section 6
+//    over the faces around the vertex (growing rings), smallest |h| wins;
+//  - local frame (fallback where no triangle qualifies): offset in the frame (e, n x e, n) at
+//    the nearest base vertex, e = a projected edge.
+// The identity manipulator reproduces the input to rounding (~1e-16 of the mesh size).
+#pragma once
+
+#include "freeform/bcm/bcm_solver.h"
+#include "freeform/bcm/settings.h"
+#include "freeform/mesh/mesh.h"
+#include "freeform/regions/regions.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace freeform {
+
+struct MultiresOptions {
+  // Normal: normal displacement where a triangle qualifies, local frame elsewhere.
+  // LocalFrame: local frame for every vertex (cheaper, rotates detail with the base normal only).
+  enum class Encoding { Normal, LocalFrame };
+  Encoding encoding = Encoding::Normal;
+  int search_rings = 3;  // candidate faces: around vertices within 0..this-1 rings of the nearest base vertex
+  double barycentric_tolerance = 1e-4;   // a root counts if every barycentric >= -tolerance
+};
+
+struct MultiresStats {
+  double decomposition_ms = 0;  // base + encoding (excludes the BCM precomputation)
+  int free = 0;                 // encoded vertices (= BCM free vertices)
+  int normal_encoded = 0;       // vertices with a normal displacement
+  int fallback = 0;             // vertices with the local-frame fallback
+  double max_height = 0;        // max |h| of the normal displacements (mesh units)
+  int rest_folded = 0;          // encodings already folded at rest (det of the offset map <= 0)
+};
+
+// Found after a reconstruction (see problems()).
+struct MultiresProblems {
+  int flipped = 0;   // support triangles facing along the base at rest (cos > 0.2) that now face against it
+  int overlaps = 0;  // free vertices whose offset map folded over (base bent tighter than |h|)
+  bool ok() const { return flipped == 0 && overlaps == 0; }
+};
+
+class MultiresSolver {
+ public:
+  // Builds the BcmSolver (throws like it: InvalidInput / SolverError) and decomposes the
+  // support. Cost: the BCM precomputation plus O(support) candidate searches (parallel).
+  MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
+                 const MultiresOptions& options = {});
+
+  const BcmSolver& bcm() const { return bcm_; }
+  int n_movable() const { return bcm_.n_movable(); }
+  const MultiresStats& stats() const { return stats_; }
+  // Per free vertex (BcmSolver::free_vertices() order): true where the local frame was used.
+  std::vector<bool> fallback_mask() const;
+
+  // Writes free and movable-handle vertices of `positions` (#V entries): base from the basis,
+  // detail added back. Fixed and immovable-handle vertices are untouched. transforms as for
+  // BcmSolver::evaluate (one affine map per movable handle, applied to the rest frame).
+  // No allocation, O(support), parallel (OpenMP static schedule above a size threshold).
+  // Uses workspace members: do not call evaluate()/problems() concurrently on one solver.
+  // Throws InvalidInput on a wrong transform count, a non-finite transform or a wrong size.
+  void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
+
+  // Flipped triangles and local overlaps of `positions` as written by the last evaluate()
+  // (it uses that call's base). Counts only changes against the rest state. O(support).
+  MultiresProblems problems(const VertexData<Vec3>& positions) const;
+
+  // Base surface of the last evaluate() (#V entries written for every vertex the solver
+  // touches; others copied from `positions`): tests and visualization.
+  void base_positions(VertexData<Vec3>& positions) const;
+
+ private:
+  using RowMatrixX3d = BcmSolver::RowMatrixX3d;
+  struct Code {
+    std::array<int, 3> corner;  // local indices; fallback: {anchor, edge neighbour, -1}
+    std::array<double, 3> w;    // barycentrics; fallback: coordinates in the frame
+    double h = 0;               // height (normal encoding)
+    std::int8_t rest_sign = 0;  // sign of det(offset map Jacobian) at rest (normal encoding)
+  };
+
+  BcmSolver bcm_;
+  MultiresStats stats_;
+  int n_vertices_ = 0;
+  int n_free_ = 0;
+  // Local vertices: rows [0, P) the free vertices (BCM order), then movable handle vertices,
+  // then constant ones (fixed, immovable handles) needed for normals.
+  std::vector<int> local_global_;          // global vertex index per local vertex
+  std::vector<int> handle_owner_;          // movable index per moving handle row (after P)
+  std::vector<Vec3> handle_rest_;          // rest position per moving handle row
+  int n_moving_ = 0;                       // P + movable handle vertices
+  std::vector<std::array<int, 3>> faces_;  // local faces (corners as local indices)
+  std::vector<int> normal_vertices_;       // local vertices whose normal is recomputed
+  std::vector<int> vf_offset_, vf_faces_;  // CSR: faces around normal_vertices_[k]
+  std::vector<Code> codes_;                // per free vertex
+  std::vector<int> detail_faces_;          // local faces with a free corner (problem check)
+  std::vector<int> detail_face_global_;    // their 3 global corners, flattened
+  std::vector<std::int8_t> detail_rest_sign_;
+  // Workspace of evaluate().
+  mutable RowMatrixX3d base_;     // local positions, rows = local vertices
+  mutable RowMatrixX3d fnormal_;  // per local face (area weighted)
+  mutable RowMatrixX3d normal_;   // per local vertex (unit; rows of other vertices unused)
+
+  void update_base(std::span<const Eigen::Affine3d> transforms) const;
+  void update_normals() const;
+};
+
+}  // namespace freeform

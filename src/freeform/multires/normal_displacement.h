@@ -1,0 +1,38 @@
+// The normal-displacement fit of DESIGN.md section 6 for one point and one base triangle.
+//
+// Triangle corners a, b, c with vertex normals na, nb, nc. The point x lies on the triangle
+// offset by h along the interpolated normals iff
+//     det[ (a + h na) - (c + h nc), (b + h nb) - (c + h nc), x - (c + h nc) ] = 0,
+// a cubic in h. For each real root the barycentrics follow from a 2x2 least-squares solve and
+// are polished together with h by Newton's method on
+//     F(u, v, h) = u (a + h na) + v (b + h nb) + w (c + h nc) - x,  w = 1 - u - v.
+#pragma once
+
+#include "freeform/mesh/types.h"
+
+namespace freeform::multires {
+
+// Real roots of c3 h^3 + c2 h^2 + c1 h + c0 = 0 (degree drops when leading coefficients are
+// negligible at the length scale `scale`). Writes up to 3 roots, returns their count.
+int cubic_roots(double c0, double c1, double c2, double c3, double scale, double roots[3]);
+
+struct NormalFit {
+  bool ok = false;
+  double u = 0, v = 0, w = 0, h = 0;
+  double det = 0;  // det dF/d(u, v, h): > 0 where the offset map is locally injective and oriented
+};
+
+// Best fit (smallest |h|) on one triangle with every barycentric >= -tolerance, or ok = false.
+NormalFit fit_normal_displacement(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& na,
+                                  const Vec3& nb, const Vec3& nc, double tolerance);
+
+// det dF/d(u, v, h) at (u, v, h): the sign of the offset map's Jacobian (overlap test).
+inline double offset_jacobian_det(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& na, const Vec3& nb,
+                                  const Vec3& nc, double u, double v, double w, double h) {
+  const Vec3 e1 = (a - c) + h * (na - nc);
+  const Vec3 e2 = (b - c) + h * (nb - nc);
+  const Vec3 n = u * na + v * nb + w * nc;
+  return e1.cross(e2).dot(n);
+}
+
+}  // namespace freeform::multires
