@@ -9,6 +9,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 #include <optional>
 #include <utility>
 
@@ -236,47 +237,32 @@ T load(const unsigned char* p, bool swap) {
   return value;
 }
 
-double load_double(Scalar t, const unsigned char* p, bool swap) {
+// Calls f(T{}) with the C++ type of a PLY scalar type.
+template <class F>
+auto with_scalar_type(Scalar t, F&& f) {
   switch (t) {
-    case Scalar::I8:
-      return load<std::int8_t>(p, swap);
-    case Scalar::U8:
-      return load<std::uint8_t>(p, swap);
-    case Scalar::I16:
-      return load<std::int16_t>(p, swap);
-    case Scalar::U16:
-      return load<std::uint16_t>(p, swap);
-    case Scalar::I32:
-      return load<std::int32_t>(p, swap);
-    case Scalar::U32:
-      return load<std::uint32_t>(p, swap);
-    case Scalar::F32:
-      return static_cast<double>(load<float>(p, swap));
-    case Scalar::F64:
-      return load<double>(p, swap);
+    case Scalar::I8: return f(std::int8_t{});
+    case Scalar::U8: return f(std::uint8_t{});
+    case Scalar::I16: return f(std::int16_t{});
+    case Scalar::U16: return f(std::uint16_t{});
+    case Scalar::I32: return f(std::int32_t{});
+    case Scalar::U32: return f(std::uint32_t{});
+    case Scalar::F32: return f(float{});
+    case Scalar::F64: break;
   }
-  return 0.0;
+  return f(double{});
+}
+
+double load_double(Scalar t, const unsigned char* p, bool swap) {
+  return with_scalar_type(t, [&](auto tag) { return static_cast<double>(load<decltype(tag)>(p, swap)); });
 }
 
 std::int64_t load_int(Scalar t, const unsigned char* p, bool swap) {
-  switch (t) {
-    case Scalar::I8:
-      return load<std::int8_t>(p, swap);
-    case Scalar::U8:
-      return load<std::uint8_t>(p, swap);
-    case Scalar::I16:
-      return load<std::int16_t>(p, swap);
-    case Scalar::U16:
-      return load<std::uint16_t>(p, swap);
-    case Scalar::I32:
-      return load<std::int32_t>(p, swap);
-    case Scalar::U32:
-      return load<std::uint32_t>(p, swap);
-    case Scalar::F32:
-    case Scalar::F64:
-      break;  // excluded by the header checks
-  }
-  return 0;
+  return with_scalar_type(t, [&](auto tag) -> std::int64_t {
+    using T = decltype(tag);
+    if constexpr (std::is_floating_point_v<T>) return 0;  // excluded by the header checks
+    else return static_cast<std::int64_t>(load<T>(p, swap));
+  });
 }
 
 class BinaryBody {

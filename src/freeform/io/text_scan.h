@@ -100,10 +100,11 @@ class TokenReader {
   std::size_t token_line_;
 };
 
-// Whole-token parse of a floating point number (a leading '+' is accepted). NaN and infinities
-// parse successfully; callers check finiteness to name the vertex.
-template <class Real>
-bool parse_real(std::string_view token, Real& out) {
+// Whole-token parse of a number with std::from_chars (a leading '+' is accepted); false on
+// trailing characters or overflow. For floating point, NaN and infinities parse successfully:
+// callers check finiteness to name the vertex.
+template <class Number>
+bool parse_number(std::string_view token, Number& out) {
   const char* first = token.data();
   const char* last = token.data() + token.size();
   if (first != last && *first == '+') {
@@ -114,20 +115,14 @@ bool parse_real(std::string_view token, Real& out) {
   auto [ptr, ec] = std::from_chars(first, last, out);
   return ec == std::errc() && ptr == last;
 }
-inline bool parse_double(std::string_view token, double& out) { return parse_real(token, out); }
-
-// Whole-token parse of a decimal integer (a leading '+' is accepted); false on overflow.
+template <class Real>
+bool parse_real(std::string_view token, Real& out) {
+  return parse_number(token, out);
+}
+inline bool parse_double(std::string_view token, double& out) { return parse_number(token, out); }
 template <class Int>
 bool parse_int(std::string_view token, Int& out) {
-  const char* first = token.data();
-  const char* last = token.data() + token.size();
-  if (first != last && *first == '+') {
-    ++first;
-    if (first != last && (*first == '-' || *first == '+')) return false;
-  }
-  if (first == last) return false;
-  auto [ptr, ec] = std::from_chars(first, last, out);
-  return ec == std::errc() && ptr == last;
+  return parse_number(token, out);
 }
 
 // min(count, max_by_bytes): how many elements to reserve so a lying header cannot trigger a huge
