@@ -10,6 +10,7 @@ PACKAGES=(
   nlohmann-json3-dev libcli11-dev libfmt-dev libstb-dev
   libcgal-dev libcgal-demo
   clang libclang-rt-14-dev
+  libgl-dev libopengl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
 )
 
 missing=()

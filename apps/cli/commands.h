@@ -24,5 +24,6 @@ struct OutputError : Error {
 void add_info_command(CLI::App& app);
 void add_convert_command(CLI::App& app);
 void add_deform_command(CLI::App& app);
+void add_render_command(CLI::App& app);  // only with FREEFORM_BUILD_VIEWER
 
 }  // namespace freeform::cli

@@ -16,6 +16,9 @@ int main(int argc, char** argv) {
   freeform::cli::add_info_command(app);
   freeform::cli::add_convert_command(app);
   freeform::cli::add_deform_command(app);
+#ifdef FREEFORM_HAVE_RENDER
+  freeform::cli::add_render_command(app);
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

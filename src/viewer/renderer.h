@@ -1,0 +1,44 @@
+// OpenGL 3.3 core renderer of a RenderScene into the current framebuffer: smooth shading with
+// a headlight (two-sided), per-vertex colours, optional wireframe overlay. Needs a current
+// 3.3 core context (EglContext headless, or the editor's window) for its whole lifetime.
+// No algorithms here: geometry and colours come from render_scene.h / region_colors.h.
+#pragma once
+
+#include "viewer/camera.h"
+#include "viewer/render_scene.h"
+
+#include <cstdint>
+
+namespace freeform::viewer {
+
+struct DrawOptions {
+  Rgb background{1.0f, 1.0f, 1.0f};
+  bool wireframe = false;
+  Rgb wire_color{0.15f, 0.15f, 0.15f};
+};
+
+class Renderer {
+ public:
+  // Compiles the shaders; throws RenderError (gl_util.h) if they do not compile or link.
+  Renderer();
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Uploads all of the scene (buffers are reallocated).
+  void upload(const RenderScene& scene);
+  // Re-uploads positions and normals only (same vertex count): the editor's per-frame path.
+  void update_geometry(const RenderScene& scene);
+  // Re-uploads colours only (region changes).
+  void update_colors(const RenderScene& scene);
+
+  // Clears and draws into the bound framebuffer's [0, width) x [0, height) viewport.
+  void draw(const Camera& camera, int width, int height, const DrawOptions& options = {}) const;
+
+ private:
+  std::uint32_t program_ = 0, vao_ = 0, vbo_position_ = 0, vbo_normal_ = 0, vbo_color_ = 0, ebo_ = 0;
+  int loc_mvp_ = -1, loc_mv_ = -1, loc_light_ = -1, loc_wire_ = -1, loc_wire_color_ = -1;
+  int n_indices_ = 0, n_vertices_ = 0;
+};
+
+}  // namespace freeform::viewer
