@@ -18,4 +18,5 @@ mkdir -p "$out"
 ./build/release/freeform deform "$mesh" --edit "$edit" -o "$out/armadillo-deformed.off" \
   --report "$out/armadillo-report.json"
 cat "$out/armadillo-report.json"
-echo "demo: wrote $out/armadillo-deformed.off and $out/armadillo-report.json"
+./build/release/freeform render "$mesh" --edit "$edit" --up y --view back -o "$out/armadillo-edit.png"
+echo "demo: wrote $out/armadillo-deformed.off, $out/armadillo-report.json and $out/armadillo-edit.png"
