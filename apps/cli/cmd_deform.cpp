@@ -43,28 +43,15 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Median time of repeated evaluate() calls into one preallocated buffer (warm, no allocation).
-double median_evaluate_ms(const BcmSolver& solver, const std::vector<Eigen::Affine3d>& transforms) {
-  BcmSolver::RowMatrixX3d buffer(solver.n_free(), 3);
+// Median wall time of kEvaluateRepeats warm calls of a per-frame function (the report's
+// evaluate and reconstruct times: not one cold call).
+template <class Frame>
+double median_frame_ms(Frame&& frame) {
   std::vector<double> times;
   times.reserve(kEvaluateRepeats);
   for (int i = 0; i < kEvaluateRepeats; ++i) {
     const auto t0 = std::chrono::steady_clock::now();
-    solver.evaluate(transforms, buffer);
-    times.push_back(ms_since(t0));
-  }
-  std::nth_element(times.begin(), times.begin() + kEvaluateRepeats / 2, times.end());
-  return times[kEvaluateRepeats / 2];
-}
-
-// Median time of repeated multiresolution reconstructions (base + normals + detail), warm.
-double median_reconstruct_ms(const MultiresSolver& solver, const std::vector<Eigen::Affine3d>& transforms,
-                             VertexData<Vec3> positions) {
-  std::vector<double> times;
-  times.reserve(kEvaluateRepeats);
-  for (int i = 0; i < kEvaluateRepeats; ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
-    solver.evaluate(transforms, positions);
+    frame();
     times.push_back(ms_since(t0));
   }
   std::nth_element(times.begin(), times.begin() + kEvaluateRepeats / 2, times.end());
@@ -102,13 +89,13 @@ void run(const DeformOptions& opt) {
     plain.emplace(mesh, regions, solver_settings(edit));
   const BcmSolver& solver = multires ? multires->bcm() : *plain;
   const std::vector<Eigen::Affine3d> transforms = edit_transforms(edit, solver);
-  const double evaluate_ms = median_evaluate_ms(solver, transforms);
+  BcmSolver::RowMatrixX3d frame_buffer(solver.n_free(), 3);  // preallocated: evaluate() does not allocate
+  const double evaluate_ms = median_frame_ms([&] { solver.evaluate(transforms, frame_buffer); });
 
   VertexData<Vec3> positions = mesh.positions();
-  const double reconstruct_ms = multires ? median_reconstruct_ms(*multires, transforms, positions) : 0.0;
+  const double reconstruct_ms = multires ? median_frame_ms([&] { multires->evaluate(transforms, positions); }) : 0.0;
   MultiresProblems problems;
-  if (multires) {
-    multires->evaluate(transforms, positions);
+  if (multires) {  // the timed calls above left the reconstruction in positions
     problems = multires->problems(positions);
   } else {
     solver.evaluate(transforms, positions);
