@@ -11,6 +11,7 @@ PACKAGES=(
   libcgal-dev libcgal-demo
   clang libclang-rt-14-dev
   libgl-dev libopengl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
+  libglfw3-dev libimgui-dev xvfb xauth xdotool x11-utils
 )
 
 missing=()

@@ -40,8 +40,10 @@ void kernel(int n, int n4_dynamic, const double* __restrict b, const double* __r
 
 }  // namespace
 
-BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings)
+BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
+                     const Progress& progress)
     : n_vertices_(mesh.n_vertices()) {
+  progress.step("assembly", 0.0);
   // Anisotropic bending: the operator's cotangents and areas come from the equalized
   // conformal map of the support grown by k rings (DESIGN.md section 5).
   AnisotropicDomain domain;
@@ -62,11 +64,13 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   stats_.free = static_cast<int>(sys.free.size());
   stats_.constrained = static_cast<int>(sys.constrained.size());
   free_ = std::move(sys.free);
+  progress.step("factorization", 0.15);
 
   t = Clock::now();
   const SparseSolver solver(sys.a_pp, sys.symmetric, settings.solver);
   stats_.factorization_ms = ms_since(t);
   stats_.solver = solver.name();
+  progress.step("basis", 0.6);
 
   t = Clock::now();
   // Virtual frame per movable handle: centroid c and c + s e_i, s = extent (> 0).
@@ -127,6 +131,7 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   basis_ = x.rightCols(4 * n_mov);
   if (n_mov > kStackHandles) scratch_.resize(static_cast<std::size_t>(12 * n_mov));
   stats_.basis_ms = ms_since(t);
+  progress.step("basis", 0.9);
 }
 
 int BcmSolver::n_free() const { return static_cast<int>(free_.size()); }

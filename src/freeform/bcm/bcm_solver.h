@@ -9,6 +9,7 @@
 
 #include "freeform/bcm/bcm_system.h"
 #include "freeform/bcm/settings.h"
+#include "freeform/common/progress.h"
 #include "freeform/mesh/mesh.h"
 #include "freeform/regions/regions.h"
 
@@ -42,8 +43,9 @@ class BcmSolver {
  public:
   using RowMatrixX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
-  // Throws InvalidInput / SolverError with a message that says what to fix.
-  BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings);
+  // Throws InvalidInput / SolverError with a message that says what to fix, Cancelled when
+  // progress.cancel is set (checked between the stages; reports fractions up to 0.9).
+  BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, const Progress& progress = {});
 
   int n_free() const;
   int n_movable() const;  // number of transforms evaluate() expects, in handle order

@@ -36,8 +36,9 @@ void validate_options(const MultiresOptions& o) {
 }  // namespace
 
 MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
-                               const MultiresOptions& options)
-    : bcm_((validate_options(options), mesh), regions, settings), n_vertices_(mesh.n_vertices()) {
+                               const MultiresOptions& options, const Progress& progress)
+    : bcm_((validate_options(options), mesh), regions, settings, progress), n_vertices_(mesh.n_vertices()) {
+  progress.step("detail", 0.9);
   const auto t0 = Clock::now();
   const std::vector<Vertex>& free = bcm_.free_vertices();
   n_free_ = static_cast<int>(free.size());
@@ -229,6 +230,7 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
     detail_rest_sign_[k] = c > kFacingCosine * scale ? 1 : (c < -kFacingCosine * scale ? -1 : 0);
   }
   stats_.decomposition_ms = ms_since(t0);
+  progress.step("detail", 1.0);
 }
 
 std::vector<bool> MultiresSolver::fallback_mask() const {
@@ -288,7 +290,9 @@ void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, Verte
   if (positions.size() != static_cast<std::size_t>(n_vertices_))
     throw InvalidInput("multiresolution evaluate: positions have " + std::to_string(positions.size()) +
                        " entries, the mesh has " + std::to_string(n_vertices_) + " vertices");
+  const auto t0 = Clock::now();
   update_base(transforms);
+  const auto t1 = Clock::now();
   update_normals();
   const double* b = base_.data();
   const double* nn = normal_.data();
@@ -318,6 +322,8 @@ void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, Verte
     out[glob[i]] = x;
   }
   for (int l = n_free_; l < n_moving_; ++l) out[glob[l]] = Map3(b + 3 * l);
+  timings_.base_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+  timings_.detail_ms = ms_since(t1);
 }
 
 MultiresProblems MultiresSolver::problems(const VertexData<Vec3>& positions) const {

@@ -15,6 +15,7 @@
 
 #include "freeform/bcm/bcm_solver.h"
 #include "freeform/bcm/settings.h"
+#include "freeform/common/progress.h"
 #include "freeform/mesh/mesh.h"
 #include "freeform/regions/regions.h"
 
@@ -53,12 +54,20 @@ struct MultiresProblems {
   bool ok() const { return flipped == 0 && overlaps == 0; }
 };
 
+// Wall times of the last evaluate(): the base from the BCM basis (the dense product) and the
+// detail reconstruction (normals + encodings), in milliseconds.
+struct MultiresTimings {
+  double base_ms = 0;
+  double detail_ms = 0;
+};
+
 class MultiresSolver {
  public:
   // Builds the BcmSolver (throws like it: InvalidInput / SolverError) and decomposes the
   // support. Cost: the BCM precomputation plus O(support) candidate searches (parallel).
+  // Cancelled when progress.cancel is set (checked between stages, "detail" last).
   MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
-                 const MultiresOptions& options = {});
+                 const MultiresOptions& options = {}, const Progress& progress = {});
 
   const BcmSolver& bcm() const { return bcm_; }
   int n_movable() const { return bcm_.n_movable(); }
@@ -77,6 +86,7 @@ class MultiresSolver {
   // Flipped triangles and local overlaps of `positions` as written by the last evaluate()
   // (it uses that call's base). Counts only changes against the rest state. O(support).
   MultiresProblems problems(const VertexData<Vec3>& positions) const;
+  const MultiresTimings& last_timings() const { return timings_; }
 
   // Base surface of the last evaluate() (#V entries written for every vertex the solver
   // touches; others copied from `positions`): tests and visualization.
@@ -112,6 +122,7 @@ class MultiresSolver {
   mutable RowMatrixX3d base_;     // local positions, rows = local vertices
   mutable RowMatrixX3d fnormal_;  // per local face (area weighted)
   mutable RowMatrixX3d normal_;   // per local vertex (unit; rows of other vertices unused)
+  mutable MultiresTimings timings_;
 
   void update_base(std::span<const Eigen::Affine3d> transforms) const;
   void update_normals() const;
