@@ -1,0 +1,135 @@
+// The editor's interactive frame, headless (docs/benchmarks.md, "Editor frame"): on a mesh of
+// about 250k triangles with a 35k-vertex support, one frame of a handle drag is
+//   evaluate (BCM basis product) + detail reconstruction (Document::update_display)
+//   + vertex normals (viewer::update_geometry) + GPU upload (Renderer::update_geometry, glFinish)
+// and, separately, the draw (Renderer::draw + glFinish; on Mesa llvmpipe this is software
+// rasterization on the CPU). The same calls the editor makes per frame, on an EGL surfaceless
+// context. Prints JSON with medians over the frames.
+//
+// Meshes: armadillo.off (52k triangles) and bunny00.off (75k) with one midpoint subdivision:
+// 208k and 302k triangles. Support: 35k free vertices + a 700-vertex handle, breadth-first
+// from a seed vertex; k = 3, multiresolution on (the editor's default).
+#include "bench_meshes.h"
+#include "editor/document.h"
+#include "freeform/io/mesh_io.h"
+#include "freeform/mesh/traversal.h"
+#include "viewer/egl_context.h"
+#include "viewer/offscreen.h"
+#include "viewer/region_colors.h"
+#include "viewer/render_scene.h"
+#include "viewer/renderer.h"
+
+#include <GL/gl.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace freeform;
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+nlohmann::json run(const std::string& name, int frames, int width, int height, int samples) {
+  const auto path = bench::mesh_dir() / name;
+  Mesh mesh = Mesh::from_soup(bench::subdivide_midpoint(read_mesh(path.string()).soup));
+  const int n_free = 35000, n_handle = 700;
+  const Vertex seed[] = {Vertex(1000)};
+  const std::vector<Vertex> bfs = k_ring(mesh, seed, 100000);
+  std::vector<Vertex> handle(bfs.begin(), bfs.begin() + n_handle);
+  std::vector<Vertex> support(bfs.begin(), bfs.begin() + n_handle + n_free);
+
+  editor::Document doc;
+  doc.open_mesh(std::move(mesh), path.string());
+  doc.set_region(editor::PaintMode::Support, support, false);
+  doc.set_region(editor::PaintMode::Handle, handle, false);
+  const auto t_pre = Clock::now();
+  doc.wait_for_precompute();
+  const double precompute_ms = ms_since(t_pre);
+  if (!doc.solver_current()) throw std::runtime_error("precompute failed: " + doc.last_error());
+  const int id = doc.active_handle();
+
+  viewer::EglContext context;
+  viewer::OffscreenTarget target(width, height, samples);
+  target.bind();
+  viewer::Renderer renderer;
+  viewer::RenderScene scene = viewer::make_scene(doc.rest_mesh(), viewer::kPlainColor);
+  renderer.upload(scene);
+  const viewer::Camera camera = viewer::fit_view(scene.bounds, viewer::ViewPreset::Iso, double(width) / height);
+  const double diag = 2.0 * scene.bounds.radius();
+
+  std::vector<double> evaluate, reconstruction, update, normals, upload, frame, draw;
+  const Manipulator start = doc.state().find_handle(id)->manipulator;
+  for (int f = 0; f < frames; ++f) {
+    Manipulator m = start;
+    m.translation += Vec3(0.0, 0.05 * diag * std::sin(0.1 * (f + 1)), 0.02 * diag);
+    doc.preview_manipulator(id, m);
+    auto t = Clock::now();
+    const editor::FrameTimings ft = doc.update_display();
+    const double update_ms = ms_since(t);
+    t = Clock::now();
+    viewer::update_geometry(scene, doc.display_positions());
+    const double normals_ms = ms_since(t);
+    t = Clock::now();
+    renderer.update_geometry(scene);
+    glFinish();
+    const double upload_ms = ms_since(t);
+    t = Clock::now();
+    renderer.draw(camera, width, height);
+    glFinish();
+    draw.push_back(ms_since(t));
+    evaluate.push_back(ft.evaluate_ms);
+    reconstruction.push_back(ft.reconstruction_ms);
+    update.push_back(update_ms);
+    normals.push_back(normals_ms);
+    upload.push_back(upload_ms);
+    frame.push_back(update_ms + normals_ms + upload_ms);
+  }
+  return {{"mesh", name + " (1 midpoint subdivision)"},
+          {"vertices", doc.rest_mesh().n_vertices()},
+          {"triangles", doc.rest_mesh().n_faces()},
+          {"support", doc.state().n_support()},
+          {"free", doc.state().n_free()},
+          {"handle", n_handle},
+          {"order", doc.parameters().order},
+          {"multiresolution", doc.parameters().multiresolution},
+          {"precompute_ms", precompute_ms},
+          {"frames", frames},
+          {"viewport", std::to_string(width) + "x" + std::to_string(height) + " " + std::to_string(samples) + "xMSAA"},
+          {"gl", context.description()},
+          {"median_ms",
+           {{"evaluate", median(evaluate)},
+            {"reconstruction", median(reconstruction)},
+            {"update_display", median(update)},
+            {"normals", median(normals)},
+            {"upload", median(upload)},
+            {"interactive_frame", median(frame)},
+            {"draw", median(draw)}}},
+          {"max_ms", {{"interactive_frame", *std::max_element(frame.begin(), frame.end())}}}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int frames = argc > 1 ? std::max(5, std::atoi(argv[1])) : 60;
+  try {
+    nlohmann::json out = nlohmann::json::array();
+    for (const char* name : {"armadillo.off", "bunny00.off"}) out.push_back(run(name, frames, 1280, 800, 4));
+    std::cout << out.dump(2) << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "bench_editor_frame: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
