@@ -34,10 +34,11 @@ in vec3 v_color;
 uniform float u_light;       // 1: shaded surface, 0: flat colour (wireframe pass)
 uniform int u_wire;
 uniform vec3 u_wire_color;
+uniform int u_flat;          // 1: facet normal from the derivatives of the eye-space position
 out vec4 frag_color;
 void main() {
   if (u_wire != 0) { frag_color = vec4(u_wire_color, 1.0); return; }
-  vec3 n = v_normal;
+  vec3 n = u_flat != 0 ? cross(dFdx(v_position), dFdy(v_position)) : v_normal;
   float len = length(n);
   n = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
   vec3 l = normalize(-v_position);
@@ -100,6 +101,7 @@ Renderer::Renderer() {
   loc_light_ = glGetUniformLocation(program_, "u_light");
   loc_wire_ = glGetUniformLocation(program_, "u_wire");
   loc_wire_color_ = glGetUniformLocation(program_, "u_wire_color");
+  loc_flat_ = glGetUniformLocation(program_, "u_flat");
 
   glGenVertexArrays(1, &vao_);
   GLuint b[4];
@@ -159,7 +161,7 @@ void Renderer::update_colors(const RenderScene& scene) {
 }
 
 void Renderer::draw(const Camera& camera, int width, int height, const DrawOptions& options) const {
-  glViewport(0, 0, width, height);
+  glViewport(options.viewport_x, options.viewport_y, width, height);
   glClearColor(options.background[0], options.background[1], options.background[2], 1.0f);
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -174,6 +176,7 @@ void Renderer::draw(const Camera& camera, int width, int height, const DrawOptio
   glUniformMatrix4fv(loc_mv_, 1, GL_FALSE, mv.data());
   glUniform1f(loc_light_, 1.0f);
   glUniform1i(loc_wire_, 0);
+  glUniform1i(loc_flat_, options.flat ? 1 : 0);
   glUniform3f(loc_wire_color_, options.wire_color[0], options.wire_color[1], options.wire_color[2]);
   glBindVertexArray(vao_);
   if (options.wireframe) {

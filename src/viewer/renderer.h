@@ -1,5 +1,5 @@
-// OpenGL 3.3 core renderer of a RenderScene into the current framebuffer: smooth shading with
-// a headlight (two-sided), per-vertex colours, optional wireframe overlay. Needs a current
+// OpenGL 3.3 core renderer of a RenderScene into the current framebuffer: smooth (or flat)
+// shading with a headlight (two-sided), per-vertex colours, optional wireframe overlay. Needs a current
 // 3.3 core context (EglContext headless, or the editor's window) for its whole lifetime.
 // No algorithms here: geometry and colours come from render_scene.h / region_colors.h.
 #pragma once
@@ -14,6 +14,13 @@ namespace freeform::viewer {
 struct DrawOptions {
   Rgb background{1.0f, 1.0f, 1.0f};
   bool wireframe = false;
+  // Flat: one normal per triangle (from screen-space derivatives of the position, so the
+  // vertex normals are not used); default smooth: interpolated vertex normals.
+  bool flat = false;
+  // Lower-left corner of the viewport in the framebuffer (GL convention, pixels): the editor
+  // draws right of its side panel. draw() still clears the whole framebuffer.
+  int viewport_x = 0;
+  int viewport_y = 0;
   Rgb wire_color{0.15f, 0.15f, 0.15f};
 };
 
@@ -32,12 +39,12 @@ class Renderer {
   // Re-uploads colours only (region changes).
   void update_colors(const RenderScene& scene);
 
-  // Clears and draws into the bound framebuffer's [0, width) x [0, height) viewport.
+  // Clears the bound framebuffer and draws into the width x height viewport at options.viewport_x/y.
   void draw(const Camera& camera, int width, int height, const DrawOptions& options = {}) const;
 
  private:
   std::uint32_t program_ = 0, vao_ = 0, vbo_position_ = 0, vbo_normal_ = 0, vbo_color_ = 0, ebo_ = 0;
-  int loc_mvp_ = -1, loc_mv_ = -1, loc_light_ = -1, loc_wire_ = -1, loc_wire_color_ = -1;
+  int loc_mvp_ = -1, loc_mv_ = -1, loc_light_ = -1, loc_wire_ = -1, loc_wire_color_ = -1, loc_flat_ = -1;
   int n_indices_ = 0, n_vertices_ = 0;
 };
 
