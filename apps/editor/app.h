@@ -82,6 +82,11 @@ class App {
   void after_new_document(const std::string& what);
   void save_mesh(const std::string& path, const std::function<void()>& then = {});
   void save_mesh_shortcut();  // Ctrl+S: the last save path, else ask
+  void prompt_save_as();      // Ctrl+Shift+S
+  void prompt_export_edit();  // Ctrl+E
+  // 1 / 2 / 3 paint support / handle / immovable, B / L / O brush / lasso / flood (no modifier,
+  // no transform running); true if used.
+  bool tool_shortcut(int key);
   std::string suggested_save_path() const;
   void update_title();
   void request_quit();

@@ -131,7 +131,7 @@ void App::popups() {
     if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
     ImGui::SetNextItemWidth(28.0f * ImGui::GetFontSize());
     bool ok = ImGui::InputTextWithHint("##prompt path", prompt_.label.c_str(), &prompt_.path,
-                                       ImGuiInputTextFlags_EnterReturnsTrue);
+                                       ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
     const ImVec2 size(6.0f * ImGui::GetFontSize(), 0);
     ok |= ImGui::Button("OK", size);
     ImGui::SameLine();

@@ -142,7 +142,21 @@ void App::on_key(const InputEvent& e) {
   if ((e.mods & (GLFW_MOD_CONTROL | GLFW_MOD_ALT | GLFW_MOD_SUPER)) != 0 && e.key != GLFW_KEY_LEFT_BRACKET &&
       e.key != GLFW_KEY_RIGHT_BRACKET)
     return;  // unknown shortcut: not a tool key
+  if (e.mods == 0 && tool_shortcut(e.key)) return;
   if (const auto key = tool_key(e.key); key && doc_.has_mesh()) tools_.key(*key, modifiers(e.mods));
+}
+
+bool App::tool_shortcut(int key) {
+  if (tools_.transforming() || tools_.stroking()) return false;
+  switch (key) {
+    case GLFW_KEY_1: tools_.options.mode = PaintMode::Support; return true;
+    case GLFW_KEY_2: tools_.options.mode = PaintMode::Handle; return true;
+    case GLFW_KEY_3: tools_.options.mode = PaintMode::Immovable; return true;
+    case GLFW_KEY_B: tools_.options.tool = Tool::Brush; return true;
+    case GLFW_KEY_L: tools_.options.tool = Tool::Lasso; return true;
+    case GLFW_KEY_O: tools_.options.tool = Tool::Flood; return true;
+    default: return false;
+  }
 }
 
 void App::on_char(const InputEvent& e) {
@@ -159,7 +173,11 @@ bool App::global_shortcut(const InputEvent& e) {
     return true;
   }
   if (ctrl && e.key == GLFW_KEY_S) {
-    save_mesh_shortcut();
+    shift ? prompt_save_as() : save_mesh_shortcut();
+    return true;
+  }
+  if (ctrl && e.key == GLFW_KEY_E) {
+    prompt_export_edit();
     return true;
   }
   if (ctrl && e.key == GLFW_KEY_Z) {

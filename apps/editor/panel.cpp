@@ -53,9 +53,8 @@ void App::panel_file() {
   if (ImGui::Button("Save mesh")) save_mesh_shortcut();
   help_marker("Ctrl+S: write the displayed mesh to the last 'Save as' path (asks the first time)");
   ImGui::SameLine();
-  if (ImGui::Button("Save as..."))
-    ask_path("Save mesh as (the original file is never overwritten)", "mesh path (.obj .off .ply .stl)",
-             suggested_save_path(), [this](const std::string& p) { save_mesh(p); });
+  if (ImGui::Button("Save as...")) prompt_save_as();
+  help_marker("Ctrl+Shift+S");
   ImGui::EndDisabled();
   if (!recent_.entries().empty() && ImGui::TreeNodeEx("Recent", ImGuiTreeNodeFlags_DefaultOpen)) {
     std::string chosen;
@@ -278,11 +277,7 @@ void App::panel_edit() {
   const auto beside = [&](const char* suffix) {
     return (base.parent_path() / (base.stem().string() + suffix)).string();
   };
-  if (ImGui::Button("Export edit..."))
-    ask_path("Export the edit (freeform deform MESH --edit FILE replays it)", "edit file (.json)", beside("-edit.json"),
-             [this](const std::string& p) {
-               if (attempt("cannot export the edit", [&] { doc_.export_edit(p); })) info("edit written to " + p);
-             });
+  if (ImGui::Button("Export edit...")) prompt_export_edit();
   ImGui::SameLine();
   if (ImGui::Button("Import edit..."))
     ask_path("Import an edit file (replaces the current regions and handles)", "edit file (.json)", beside("-edit.json"),
@@ -301,6 +296,21 @@ void App::panel_edit() {
     ask_path("Load a session (opens its mesh)", "session file (.json)", doc_.has_mesh() ? beside("-session.json") : std::string(),
              [this](const std::string& p) { load_session(p); });
   ImGui::EndDisabled();
+}
+
+void App::prompt_save_as() {
+  if (!doc_.has_mesh()) return;
+  ask_path("Save mesh as (the original file is never overwritten)", "mesh path (.obj .off .ply .stl)",
+           suggested_save_path(), [this](const std::string& p) { save_mesh(p); });
+}
+
+void App::prompt_export_edit() {
+  if (!doc_.has_mesh()) return;
+  const std::filesystem::path base = doc_.path().empty() ? std::filesystem::path("edit") : std::filesystem::path(doc_.path());
+  ask_path("Export the edit (freeform deform MESH --edit FILE replays it)", "edit file (.json)",
+           (base.parent_path() / (base.stem().string() + "-edit.json")).string(), [this](const std::string& p) {
+             if (attempt("cannot export the edit", [&] { doc_.export_edit(p); })) info("edit written to " + p);
+           });
 }
 
 }  // namespace freeform::editor

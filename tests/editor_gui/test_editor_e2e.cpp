@@ -3,8 +3,10 @@
 // the edit and save the mesh through the panel; then `freeform deform` with the exported edit
 // must reproduce the saved mesh (max vertex difference <= 1e-9 of the bounding-box diagonal).
 //
-// The mesh is a bumpy plane facing the default front view, so it fills the viewport's centre;
-// panel widgets are clicked at their positions in the 1280x800 layout (docs/editor.md).
+// The mesh is a bumpy plane facing the default front view, so it fills the viewport's centre.
+// The panel is reached through its keyboard shortcuts (docs/editor.md): 1 / 2 paint mode,
+// Ctrl+E export edit, Ctrl+Shift+S save as. ImGui reads the pointer once per frame, so every
+// press waits a moment after the pointer moved.
 #include "x_session.h"
 
 #include "freeform/io/mesh_io.h"
@@ -16,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iterator>
 #include <thread>
 
 namespace freeform {
@@ -24,10 +27,6 @@ namespace {
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 
-// Panel positions in the 1280x800 window (the panel is the left 351 pixels).
-constexpr const char* kModeHandle = "155 277";
-constexpr const char* kExportEdit = "60 577";
-constexpr const char* kSaveAs = "170 82";
 // Viewport centre: the panel ends at x = 351, the status bar starts at y = 757.
 constexpr int kCx = 815, kCy = 378;
 
@@ -38,6 +37,21 @@ bool wait_for_file(const fs::path& p, std::chrono::seconds timeout) {
     std::this_thread::sleep_for(200ms);
   }
   return false;
+}
+
+// With FREEFORM_E2E_SHOTS=DIR set, screenshots of each step go there (needs ImageMagick).
+void shot(const test::XSession& x, const std::string& name) {
+  const char* dir = std::getenv("FREEFORM_E2E_SHOTS");
+  if (dir && *dir) x.shell("import -window root '" + std::string(dir) + "/" + name + ".png'");
+}
+
+// What went wrong: the scratch folder's files and the editor's log.
+std::string diagnose(const fs::path& dir) {
+  std::string out = "files:";
+  for (const auto& e : fs::directory_iterator(dir)) out += " " + e.path().filename().string();
+  std::ifstream log(dir / "editor.log");
+  out += "\neditor log:\n" + std::string(std::istreambuf_iterator<char>(log), {});
+  return out;
 }
 
 std::string at(int x, int y) { return std::to_string(x) + " " + std::to_string(y); }
@@ -62,39 +76,47 @@ TEST(EditorEndToEnd, PaintDragExportSaveThenDeformReproduces) {
 
   test::XSession x(1280, 800);
   ASSERT_TRUE(x.start_editor(FREEFORM_EDITOR_PATH, {input.string(), "--size", "1280x800"}, dir.path()))
-      << "the editor window did not appear; log: " << (dir.path() / "editor.log");
+      << "the editor window did not appear; " << diagnose(dir.path());
   std::this_thread::sleep_for(2s);
 
   // Support: three wide brush strokes across the middle (radius 40 px * 1.15^8 = 122 px).
   for (int i = 0; i < 8; ++i) ASSERT_TRUE(x.xdotool("key bracketright"));
   for (int dy : {-110, 0, 110}) {
-    std::string stroke = "mousemove " + at(kCx - 220, kCy + dy) + " mousedown 1";
-    for (int s = 1; s <= 8; ++s) stroke += " mousemove " + at(kCx - 220 + 55 * s, kCy + dy);
-    ASSERT_TRUE(x.xdotool(stroke + " mouseup 1"));
+    std::string stroke = "mousemove " + at(kCx - 220, kCy + dy) + " sleep 0.3 mousedown 1";
+    for (int s = 1; s <= 8; ++s) stroke += " sleep 0.05 mousemove " + at(kCx - 220 + 55 * s, kCy + dy);
+    ASSERT_TRUE(x.xdotool(stroke + " sleep 0.3 mouseup 1"));
     std::this_thread::sleep_for(300ms);
   }
   // Handle: one dab of the 40 px brush at the centre.
-  ASSERT_TRUE(x.xdotool("mousemove " + std::string(kModeHandle) + " click 1"));
+  ASSERT_TRUE(x.xdotool("key 2"));
   for (int i = 0; i < 8; ++i) ASSERT_TRUE(x.xdotool("key bracketleft"));
-  ASSERT_TRUE(x.xdotool("mousemove " + at(kCx, kCy) + " click 1"));
+  ASSERT_TRUE(x.xdotool("mousemove " + at(kCx, kCy) + " sleep 0.3 click 1"));
   std::this_thread::sleep_for(6s);  // the background precompute (well under a second here)
+  shot(x, "1-painted");
 
   // Drag the gizmo's free centre up by 70 pixels.
-  ASSERT_TRUE(x.xdotool("mousemove " + at(kCx, kCy) + " mousedown 1 mousemove " + at(kCx, kCy - 20) + " mousemove " +
-                        at(kCx, kCy - 50) + " mousemove " + at(kCx, kCy - 70) + " mouseup 1"));
+  ASSERT_TRUE(x.xdotool("mousemove " + at(kCx, kCy) + " sleep 0.3 mousedown 1 sleep 0.1 mousemove " + at(kCx, kCy - 20) +
+                        " sleep 0.1 mousemove " + at(kCx, kCy - 50) + " sleep 0.1 mousemove " + at(kCx, kCy - 70) +
+                        " sleep 0.3 mouseup 1"));
   std::this_thread::sleep_for(2s);
+  shot(x, "2-dragged");
 
   // Export the edit and save the mesh through the panel's path prompts.
-  ASSERT_TRUE(x.xdotool("mousemove " + std::string(kExportEdit) + " click 1"));
-  std::this_thread::sleep_for(700ms);
-  ASSERT_TRUE(x.xdotool("type --delay 15 '" + edit.string() + "'"));
+  ASSERT_TRUE(x.xdotool("key ctrl+e"));
+  std::this_thread::sleep_for(1s);
+  // The prompt's suggested path is selected: typing replaces it.
+  ASSERT_TRUE(x.xdotool("type --delay 20 '" + edit.string() + "'"));
+  std::this_thread::sleep_for(1s);
+  shot(x, "3-export-prompt");
   ASSERT_TRUE(x.xdotool("key Return"));
-  ASSERT_TRUE(wait_for_file(edit, 20s)) << "no exported edit; log: " << (dir.path() / "editor.log");
-  ASSERT_TRUE(x.xdotool("mousemove " + std::string(kSaveAs) + " click 1"));
-  std::this_thread::sleep_for(700ms);
-  ASSERT_TRUE(x.xdotool("type --delay 15 '" + saved.string() + "'"));
+  ASSERT_TRUE(wait_for_file(edit, 20s)) << "no exported edit; " << diagnose(dir.path());
+  ASSERT_TRUE(x.xdotool("key ctrl+shift+s"));
+  std::this_thread::sleep_for(1s);
+  ASSERT_TRUE(x.xdotool("type --delay 20 '" + saved.string() + "'"));
+  std::this_thread::sleep_for(1s);
+  shot(x, "4-save-prompt");
   ASSERT_TRUE(x.xdotool("key Return"));
-  ASSERT_TRUE(wait_for_file(saved, 20s)) << "no saved mesh; log: " << (dir.path() / "editor.log");
+  ASSERT_TRUE(wait_for_file(saved, 20s)) << "no saved mesh; " << diagnose(dir.path());
 
   // Quit: the mesh was saved, so the editor closes without asking.
   ASSERT_TRUE(x.xdotool("key ctrl+q"));
