@@ -6,6 +6,7 @@
 #include <thread>
 
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -52,23 +53,34 @@ void kill_and_reap(int& pid) {
 
 }  // namespace
 
+// Xvfb picks a free display number itself and writes it to the pipe (-displayfd): no race with
+// other X servers starting at the same time (parallel tests, a developer's own Xvfb).
 XSession::XSession(int width, int height) {
-  for (int n = 77; n < 200; ++n) {
-    if (std::filesystem::exists("/tmp/.X" + std::to_string(n) + "-lock")) continue;
-    display_ = ":" + std::to_string(n);
-    const std::string screen = std::to_string(width) + "x" + std::to_string(height) + "x24";
-    xvfb_pid_ = spawn({"Xvfb", display_, "-screen", "0", screen, "-nolisten", "tcp"}, {}, "/dev/null");
-    for (int i = 0; i < 100; ++i) {
-      std::this_thread::sleep_for(100ms);
-      if (waitpid(xvfb_pid_, nullptr, WNOHANG) == xvfb_pid_) {
-        xvfb_pid_ = -1;
-        break;  // display taken after all: try the next number
-      }
-      if (shell("xdpyinfo >/dev/null 2>&1") == 0) return;
-    }
-    kill_and_reap(xvfb_pid_);
+  int fds[2];
+  if (pipe(fds) != 0) throw std::runtime_error("pipe failed");
+  const std::string screen = std::to_string(width) + "x" + std::to_string(height) + "x24";
+  xvfb_pid_ = spawn({"Xvfb", "-displayfd", std::to_string(fds[1]), "-screen", "0", screen, "-nolisten", "tcp"}, {},
+                    "/dev/null");
+  close(fds[1]);
+  std::string number;
+  pollfd p{fds[0], POLLIN, 0};
+  while (poll(&p, 1, 20000) > 0) {
+    char c = 0;
+    if (read(fds[0], &c, 1) != 1 || c == '\n') break;
+    number += c;
   }
-  throw std::runtime_error("could not start Xvfb (is the xvfb package installed?)");
+  close(fds[0]);
+  if (number.empty()) {
+    kill_and_reap(xvfb_pid_);
+    throw std::runtime_error("could not start Xvfb (is the xvfb package installed?)");
+  }
+  display_ = ":" + number;
+  for (int i = 0; i < 100; ++i) {
+    if (shell("xdpyinfo >/dev/null 2>&1") == 0) return;
+    std::this_thread::sleep_for(100ms);
+  }
+  kill_and_reap(xvfb_pid_);
+  throw std::runtime_error("Xvfb on " + display_ + " does not answer (xdpyinfo, package x11-utils)");
 }
 
 XSession::~XSession() {
