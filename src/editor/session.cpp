@@ -2,6 +2,7 @@
 
 #include "freeform/bcm/edit_file.h"
 #include "freeform/common/error.h"
+#include "freeform/common/json_messages.h"
 #include "freeform/io/file_util.h"
 #include "freeform/io/mesh_io.h"
 
@@ -18,24 +19,11 @@ namespace {
 using ojson = nlohmann::ordered_json;
 namespace fs = std::filesystem;
 
-std::string num(double x) {
-  std::ostringstream s;
-  s.precision(10);
-  s << x;
-  return s.str();
-}
-std::string at(const std::string& parent, const std::string& key) { return parent.empty() ? key : parent + "." + key; }
-std::string at(const std::string& parent, std::size_t i) { return parent + "[" + std::to_string(i) + "]"; }
-std::string q(const std::string& path) { return "\"" + path + "\""; }
-
-std::string type_of(const ojson& j) {
-  if (j.is_number_integer()) return "the integer " + j.dump();
-  if (j.is_number()) return "the number " + j.dump();
-  if (j.is_string()) return "a string";
-  if (j.is_boolean()) return j.dump();
-  if (j.is_null()) return "null";
-  return j.is_array() ? "an array" : "an object";
-}
+using json_messages::num;
+using json_messages::type_of;
+std::string at(const std::string& parent, const std::string& key) { return json_messages::key_path(parent, key); }
+std::string at(const std::string& parent, std::size_t i) { return json_messages::index_path(parent, i); }
+std::string q(const std::string& path) { return json_messages::quoted(path); }
 
 ojson vec_json(const Vec3& v) { return ojson::array({v.x(), v.y(), v.z()}); }
 

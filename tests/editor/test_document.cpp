@@ -2,6 +2,7 @@
 // exported edits replay it, import restores the state, painting rules, Apply and its undo,
 // the old solver staying in use, background failures and file errors.
 #include "editor/document.h"
+#include "editor_test_util.h"
 
 #include "freeform/bcm/edit_file.h"
 #include "freeform/common/error.h"
@@ -16,12 +17,7 @@
 namespace freeform::editor {
 namespace {
 
-std::vector<Vertex> disc(const Mesh& m, Vec3 c, double r) {
-  std::vector<Vertex> out;
-  for (Vertex v : m.vertices())
-    if ((m.position(v) - c).head<2>().norm() <= r) out.push_back(v);
-  return out;
-}
+using test_util::disc;
 
 double max_diff(const VertexData<Vec3>& a, const VertexData<Vec3>& b) {
   double d = 0;

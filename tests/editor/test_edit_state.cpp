@@ -1,6 +1,7 @@
 // EditState: counts against a brute-force recount, parameter clamping, problems, to_edit /
 // from_edit / edit_to_json round trips, and the exact transform of a handle.
 #include "editor/edit_state.h"
+#include "editor_test_util.h"
 
 #include "freeform/bcm/edit_file.h"
 #include "freeform/common/error.h"
@@ -16,12 +17,7 @@ namespace {
 
 Mesh plane() { return Mesh::from_soup(make_bumpy_plane(14, 14, 0.05, 2.0)); }
 
-std::vector<Vertex> disc(const Mesh& m, Vec3 c, double r) {
-  std::vector<Vertex> out;
-  for (Vertex v : m.vertices())
-    if ((m.position(v) - c).head<2>().norm() <= r) out.push_back(v);
-  return out;
-}
+using test_util::disc;
 
 Manipulator some_manipulator() {
   Manipulator m;

@@ -2,6 +2,7 @@
 // proportion to what changed, and a random session of mixed Document operations is restored
 // bit for bit by undoing everything and redoing everything.
 #include "editor/document.h"
+#include "editor_test_util.h"
 #include "editor/history.h"
 
 #include "freeform/mesh/generators.h"
@@ -14,12 +15,7 @@
 namespace freeform::editor {
 namespace {
 
-std::vector<Vertex> disc(const Mesh& m, Vec3 c, double r) {
-  std::vector<Vertex> out;
-  for (Vertex v : m.vertices())
-    if ((m.position(v) - c).head<2>().norm() <= r) out.push_back(v);
-  return out;
-}
+using test_util::disc;
 
 EditState random_state(int n, int first_id, std::mt19937& rng) {
   EditState s(n);

@@ -3,6 +3,7 @@
 // no error; a newer request supersedes an older one; invalid regions fail with a message and
 // keep the previous solver; the destructor joins a running job.
 #include "editor/precompute_job.h"
+#include "editor_test_util.h"
 
 #include "freeform/mesh/generators.h"
 
@@ -14,12 +15,7 @@
 namespace freeform::editor {
 namespace {
 
-std::vector<Vertex> disc(const Mesh& m, Vec3 c, double r) {
-  std::vector<Vertex> out;
-  for (Vertex v : m.vertices())
-    if ((m.position(v) - c).head<2>().norm() <= r) out.push_back(v);
-  return out;
-}
+using test_util::disc;
 
 PrecomputeRequest request(std::shared_ptr<const Mesh> mesh, std::uint64_t tag, bool multires = true) {
   PrecomputeRequest r;

@@ -2,6 +2,7 @@
 // including applied edits (replayed with deform) and imported matrices; the mesh is found
 // relative to the session after moving both; malformed files name the offending key.
 #include "editor/document.h"
+#include "editor_test_util.h"
 #include "editor/session.h"
 
 #include "freeform/common/error.h"
@@ -20,12 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<Vertex> disc(const Mesh& m, Vec3 c, double r) {
-  std::vector<Vertex> out;
-  for (Vertex v : m.vertices())
-    if ((m.position(v) - c).head<2>().norm() <= r) out.push_back(v);
-  return out;
-}
+using test_util::disc;
 
 bool bitwise_equal(const VertexData<Vec3>& a, const VertexData<Vec3>& b) {
   return a.size() == b.size() && std::memcmp(a.raw().data(), b.raw().data(), a.size() * sizeof(Vec3)) == 0;

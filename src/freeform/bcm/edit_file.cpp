@@ -1,6 +1,7 @@
 #include "freeform/bcm/edit_file.h"
 
 #include "freeform/common/error.h"
+#include "freeform/common/json_messages.h"
 #include "freeform/io/file_util.h"
 #include "freeform/regions/sel_file.h"
 #include "freeform/regions/selectors.h"
@@ -21,26 +22,11 @@ namespace {
 using json = nlohmann::json;
 namespace fs = std::filesystem;
 
-std::string num(double x) {
-  std::ostringstream s;
-  s.precision(10);
-  s << x;
-  return s.str();
-}
-
-std::string key_path(const std::string& parent, const std::string& key) { return parent.empty() ? key : parent + "." + key; }
-std::string index_path(const std::string& parent, std::size_t i) { return parent + "[" + std::to_string(i) + "]"; }
-std::string quoted(const std::string& path) { return "\"" + path + "\""; }
-
-std::string type_of(const json& j) {
-  if (j.is_number_integer()) return "the integer " + j.dump();
-  if (j.is_number()) return "the number " + j.dump();
-  if (j.is_string()) return "a string";
-  if (j.is_boolean()) return j.dump();
-  if (j.is_null()) return "null";
-  if (j.is_array()) return "an array";
-  return "an object";
-}
+using json_messages::index_path;
+using json_messages::key_path;
+using json_messages::num;
+using json_messages::quoted;
+using json_messages::type_of;
 
 // Rejects a 4x4 matrix that is not a finite, invertible affine map (message names `what`).
 void check_matrix(const Eigen::Matrix4d& m, const std::string& what) {
