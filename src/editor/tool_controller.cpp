@@ -78,9 +78,11 @@ std::optional<int> ToolController::active_movable() const {
 Manipulator ToolController::centred_manipulator(int id, Vec3* pivot) const {
   const HandleState& h = *doc_.state().find_handle(id);
   Manipulator m = h.manipulator;
-  const Vec3 c = centroid(doc_.rest_mesh(), doc_.state().handle_vertices(id));
-  if (h.matrix) m = recentred(m, *h.matrix * c);
-  else if (!m.pivot) m.pivot = c;
+  if (h.matrix) {  // imported matrices only: the centroid's image, recomputed (O(#V))
+    m = recentred(m, *h.matrix * centroid(doc_.rest_mesh(), doc_.state().handle_vertices(id)));
+  } else {
+    m.pivot = doc_.handle_pivot(id);  // the stored pivot: no scan of the mesh per frame
+  }
   *pivot = *m.pivot;
   return m;
 }
