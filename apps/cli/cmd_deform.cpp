@@ -3,23 +3,21 @@
 // mesh (same vertex order and faces) and optionally a JSON report with counts and timings.
 #include "commands.h"
 
-#include "freeform/bcm/bcm_solver.h"
-#include "freeform/bcm/edit.h"
-#include "freeform/bcm/edit_file.h"
+#include "freeform/edit/edit_json.h"
+#include "freeform/edit/edit_solver.h"
 #include "freeform/io/file_util.h"
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/mesh.h"
-#include "freeform/multires/multires_solver.h"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 #include <sys/resource.h>
 
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace freeform::cli {
@@ -39,23 +37,12 @@ bool same_file(const std::string& a, const std::string& b) {
   return std::filesystem::weakly_canonical(a, ec) == std::filesystem::weakly_canonical(b, ec) && !ec;
 }
 
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// Median wall time of kEvaluateRepeats warm calls of a per-frame function (the report's
-// evaluate and reconstruct times: not one cold call).
-template <class Frame>
-double median_frame_ms(Frame&& frame) {
-  std::vector<double> times;
-  times.reserve(kEvaluateRepeats);
-  for (int i = 0; i < kEvaluateRepeats; ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
-    frame();
-    times.push_back(ms_since(t0));
-  }
-  std::nth_element(times.begin(), times.begin() + kEvaluateRepeats / 2, times.end());
-  return times[kEvaluateRepeats / 2];
+// Median of one timing over the repeated frames (the report's evaluate and reconstruct times:
+// not one cold call).
+double median(std::vector<EditTimings> frames, double EditTimings::*field) {
+  const auto mid = frames.begin() + static_cast<std::ptrdiff_t>(frames.size() / 2);
+  std::nth_element(frames.begin(), mid, frames.end(), [field](const EditTimings& a, const EditTimings& b) { return a.*field < b.*field; });
+  return (*mid).*field;
 }
 
 double peak_memory_mb() {
@@ -78,36 +65,27 @@ void run(const DeformOptions& opt) {
 
   const Edit edit = opt.edit.empty() ? edit_from_sel_def(opt.sel, opt.def, opt.order, mesh)
                                      : read_edit_file(opt.edit, mesh);
-  check_edit_available(edit);
-  const Regions regions = edit_regions(mesh, edit);
-  // Multiresolution (the default) keeps the detail in the support; its BcmSolver is the base.
-  std::optional<MultiresSolver> multires;
-  std::optional<BcmSolver> plain;
-  if (edit.multiresolution)
-    multires.emplace(mesh, regions, solver_settings(edit));
-  else
-    plain.emplace(mesh, regions, solver_settings(edit));
-  const BcmSolver& solver = multires ? multires->bcm() : *plain;
-  const std::vector<Eigen::Affine3d> transforms = edit_transforms(edit, solver);
-  BcmSolver::RowMatrixX3d frame_buffer(solver.n_free(), 3);  // preallocated: evaluate() does not allocate
-  const double evaluate_ms = median_frame_ms([&] { solver.evaluate(transforms, frame_buffer); });
-
+  const EditSolver solver(mesh, edit);
+  const std::vector<Eigen::Affine3d> transforms = solver.transforms(edit);
   VertexData<Vec3> positions = mesh.positions();
-  const double reconstruct_ms = multires ? median_frame_ms([&] { multires->evaluate(transforms, positions); }) : 0.0;
-  MultiresProblems problems;
-  if (multires) {  // the timed calls above left the reconstruction in positions
-    problems = multires->problems(positions);
-  } else {
+  // The report's frame times: medians of warm calls (evaluate writes the same result each time).
+  std::vector<EditTimings> frames;
+  frames.reserve(kEvaluateRepeats);
+  for (int i = 0; i < kEvaluateRepeats; ++i) {
     solver.evaluate(transforms, positions);
+    frames.push_back(solver.last_timings());
   }
+  const double evaluate_ms = median(frames, &EditTimings::evaluate_ms);
+  const double reconstruct_ms = median(frames, &EditTimings::reconstruction_ms);
+  const EditProblems problems = solver.problems(positions);
+  require_finite(problems);
   TriangleSoup soup = std::move(read.soup);
   for (std::size_t i = 0; i < soup.positions.size(); ++i) soup.positions[i] = positions[Vertex(static_cast<int>(i))];
-  for (const Vec3& p : soup.positions)
-    if (!p.allFinite()) throw SolverError("the deformed mesh has non-finite positions; try a smaller order or support");
 
-  const BcmStats& st = solver.stats();
+  const Regions& regions = solver.regions();
+  const BcmStats& st = solver.stats().bcm;
+  const std::optional<MultiresStats>& ms = solver.stats().multires;
   const int k = edit.settings.order;
-  const auto resolved = [k](double c) { return c < 0 ? k - 1.0 : c; };
   nlohmann::json handles = nlohmann::json::array();
   for (const HandleRegion& h : regions.handles())
     handles.push_back({{"vertices", h.vertices.size()}, {"movable", h.movable}});
@@ -117,8 +95,9 @@ void run(const DeformOptions& opt) {
       {"edit", opt.edit.empty() ? nlohmann::json({{"sel", opt.sel}, {"def", opt.def}}) : nlohmann::json(opt.edit)},
       {"vertices", mesh.n_vertices()},
       {"faces", mesh.n_faces()},
+      {"deformation", deformation_name(solver.stats().deformation)},
       {"order", k},
-      {"smoothness", {{"outer", resolved(edit.settings.smoothness.outer)}, {"inner", resolved(edit.settings.smoothness.inner)}}},
+      {"smoothness", {{"outer", resolved_outer(edit.settings)}, {"inner", resolved_inner(edit.settings)}}},
       {"counts", {{"free", regions.n_free()}, {"fixed", regions.n_fixed()}, {"constrained_in_system", st.constrained}, {"handles", handles}}},
       {"solver", st.solver},
       {"symmetric", st.symmetric},
@@ -127,21 +106,21 @@ void run(const DeformOptions& opt) {
       {"evaluate_repeats", kEvaluateRepeats},
       {"residual", st.residual},
       {"anisotropic",
-       {{"requested", solver_settings(edit).anisotropic},
+       {{"requested", edit.settings.anisotropic},
         {"used", st.anisotropic},
         {"principal_extents", {st.principal_extents[0], st.principal_extents[1]}},
         {"fallback", st.anisotropic_fallback.empty() ? nlohmann::json(nullptr) : nlohmann::json(st.anisotropic_fallback)},
         {"parametrization_ms", st.parametrization_ms}}},
       {"multiresolution",
-       multires ? nlohmann::json({{"decomposition_ms", multires->stats().decomposition_ms},
-                                  {"reconstruct_ms", reconstruct_ms},
-                                  {"reconstruct_repeats", kEvaluateRepeats},
-                                  {"normal_encoded", multires->stats().normal_encoded},
-                                  {"fallback", multires->stats().fallback},
-                                  {"max_height", multires->stats().max_height},
-                                  {"flipped_triangles", problems.flipped},
-                                  {"overlaps", problems.overlaps}})
-                : nlohmann::json(nullptr)},
+       ms ? nlohmann::json({{"decomposition_ms", ms->decomposition_ms},
+                            {"reconstruct_ms", reconstruct_ms},
+                            {"reconstruct_repeats", kEvaluateRepeats},
+                            {"normal_encoded", ms->normal_encoded},
+                            {"fallback", ms->fallback},
+                            {"max_height", ms->max_height},
+                            {"flipped_triangles", problems.detail.flipped},
+                            {"overlaps", problems.detail.overlaps}})
+          : nlohmann::json(nullptr)},
       {"peak_memory_mb", peak_memory_mb()},
   };
 
@@ -167,13 +146,12 @@ void run(const DeformOptions& opt) {
                st.principal_extents[0], st.principal_extents[1], st.parametrization_ms);
   else if (!st.anisotropic_fallback.empty())
     fmt::print(stderr, "warning: anisotropic bending fell back to the isotropic operator: {}\n", st.anisotropic_fallback);
-  if (multires) {
-    const MultiresStats& ms = multires->stats();
+  if (ms) {
     fmt::print("multiresolution: decomposition {:.1f} ms, reconstruct {:.3f} ms; {} normal-encoded, {} fallback vertices\n",
-               ms.decomposition_ms, reconstruct_ms, ms.normal_encoded, ms.fallback);
-    if (!problems.ok())
+               ms->decomposition_ms, reconstruct_ms, ms->normal_encoded, ms->fallback);
+    if (!problems.detail.ok())
       fmt::print(stderr, "warning: the bend is too tight for the detail: {} flipped triangles, {} overlapping vertices\n",
-                 problems.flipped, problems.overlaps);
+                 problems.detail.flipped, problems.detail.overlaps);
   }
   if (!opt.report.empty()) fmt::print("wrote {}\n", opt.report);
 }

@@ -5,8 +5,8 @@
 // gray; docs/render.md) on the deformed (default) or the original shape.
 #include "commands.h"
 
-#include "freeform/bcm/edit.h"
-#include "freeform/bcm/edit_file.h"
+#include "freeform/edit/edit_json.h"
+#include "freeform/edit/edit_solver.h"
 #include "freeform/io/file_util.h"
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/mesh.h"
@@ -78,12 +78,8 @@ void run(const RenderOptions& opt) {
   vw::BoundingBox frame = scene.bounds;  // fitted to original and deformed: both renders align
   if (!opt.edit.empty()) {
     const Edit edit = read_edit_file(opt.edit, mesh);
-    check_edit_available(edit);
-    const Regions regions = edit_regions(mesh, edit);
-    vw::set_colors(scene, vw::region_colors(regions));
-    const Mesh deformed = deform(mesh, edit);
-    for (const Vertex v : deformed.vertices())
-      if (!deformed.position(v).allFinite()) throw SolverError("the deformed mesh has non-finite positions");
+    vw::set_colors(scene, vw::region_colors(edit_regions(mesh, edit)));
+    const Mesh deformed = deform(mesh, edit);  // throws on a non-finite result
     vw::RenderScene moved = scene;
     vw::update_geometry(moved, deformed.positions());
     frame = merge(frame, moved.bounds);

@@ -1,7 +1,8 @@
 #include "editor/document.h"
 
 #include "editor/session.h"
-#include "freeform/bcm/edit_file.h"
+#include "freeform/edit/edit_json.h"
+#include "freeform/edit/edit_solver.h"
 #include "freeform/common/error.h"
 #include "freeform/io/file_util.h"
 #include "freeform/io/mesh_io.h"
@@ -411,7 +412,7 @@ void Document::save_mesh(const std::string& path, bool allow_overwrite_input) {
 void Document::export_edit(const std::string& path) const {
   require_mesh();
   if (const std::string why = state_.problem(*rest_); !why.empty()) throw InvalidInput("cannot export the edit: " + why);
-  write_file_atomic(path, json_text(edit_to_json(state_.to_edit(*rest_))));
+  write_edit_file(path, state_.to_edit(*rest_));
 }
 
 void Document::import_edit(const std::string& path) {

@@ -1,18 +1,12 @@
 #include "editor/edit_state.h"
 
-#include "freeform/bcm/edit_file.h"
 #include "freeform/common/error.h"
-
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 namespace freeform::editor {
 namespace {
-
-using ojson = nlohmann::ordered_json;
 
 bool same_opt_vec(const std::optional<Vec3>& a, const std::optional<Vec3>& b) {
   return a.has_value() == b.has_value() && (!a || *a == *b);
@@ -21,38 +15,6 @@ bool same_opt_vec(const std::optional<Vec3>& a, const std::optional<Vec3>& b) {
 Eigen::Matrix3d linear_part(const Manipulator& m) {
   const double qn = m.rotation.norm();
   return Eigen::Quaterniond(m.rotation.coeffs() / qn).toRotationMatrix() * m.scale.asDiagonal();
-}
-
-ojson vertex_selector(const std::vector<Vertex>& vs) {
-  ojson list = ojson::array();
-  for (Vertex v : vs) list.push_back(v.idx());
-  return ojson{{"vertices", std::move(list)}};
-}
-
-ojson matrix_json(const Eigen::Affine3d& t) {
-  ojson rows = ojson::array();
-  for (int r = 0; r < 3; ++r) rows.push_back({t.matrix()(r, 0), t.matrix()(r, 1), t.matrix()(r, 2), t.matrix()(r, 3)});
-  rows.push_back({0.0, 0.0, 0.0, 1.0});  // exactly affine, as the parser demands
-  return ojson{{"matrix", std::move(rows)}};
-}
-
-void write_json(std::string& out, const ojson& j, int level, int expanded) {
-  const bool container = j.is_object() || j.is_array();
-  const bool scalars = j.is_array() && std::none_of(j.begin(), j.end(), [](const ojson& e) { return e.is_structured(); });
-  if (!container || j.empty() || scalars || level >= expanded) {
-    out += j.dump();
-    return;
-  }
-  const std::string pad(static_cast<std::size_t>(2 * (level + 1)), ' ');
-  out += j.is_object() ? "{\n" : "[\n";
-  std::size_t i = 0;
-  for (auto it = j.begin(); it != j.end(); ++it, ++i) {
-    out += pad;
-    if (j.is_object()) out += ojson(it.key()).dump() + ": ";
-    write_json(out, *it, level + 1, expanded);
-    out += i + 1 < j.size() ? ",\n" : "\n";
-  }
-  out += std::string(static_cast<std::size_t>(2 * level), ' ') + (j.is_object() ? "}" : "]");
 }
 
 }  // namespace
@@ -75,11 +37,6 @@ Eigen::Affine3d HandleState::transform(const Vec3& default_pivot) const {
   Eigen::Affine3d t = m * *matrix;
   t.matrix().row(3) << 0, 0, 0, 1;
   return t;
-}
-
-bool is_identity(const Manipulator& m) {
-  return m.translation == Vec3::Zero() && m.scale == Vec3::Ones() &&
-         m.rotation.coeffs() == Eigen::Quaterniond::Identity().coeffs();
 }
 
 bool same_transform(const HandleState& a, const HandleState& b) {
@@ -245,14 +202,12 @@ BcmSettings EditState::settings() const {
 Edit EditState::to_edit(const Mesh& rest) const {
   Edit e;
   e.settings = settings();
-  e.settings.anisotropic = false;  // carried by e.anisotropic, as an edit file does
-  e.anisotropic = params_.anisotropic;
   e.multiresolution = params_.multiresolution;
   e.support = support_vertices();
   for (const HandleState& h : handles_) {
     EditHandle eh;
     eh.vertices = handle_vertices(h.id);
-    eh.fixed = !h.movable;
+    eh.movable = h.movable;
     if (h.movable) eh.matrix = h.manipulator.pivot ? h.transform() : h.transform(centroid(rest, eh.vertices));
     e.handles.push_back(std::move(eh));
   }
@@ -267,7 +222,7 @@ EditState EditState::from_edit(const Edit& edit, const Mesh& rest, int first_id)
   p.order = edit.settings.order;
   p.outer = resolved_outer(edit.settings);
   p.inner = resolved_inner(edit.settings);
-  p.anisotropic = edit.anisotropic || edit.settings.anisotropic;
+  p.anisotropic = edit.settings.anisotropic;
   p.multiresolution = edit.multiresolution;
   s.set_parameters(p);
   for (Vertex v : edit.support) s.set_vertex(v, true, -1);
@@ -275,7 +230,7 @@ EditState EditState::from_edit(const Edit& edit, const Mesh& rest, int first_id)
     const EditHandle& eh = edit.handles[i];
     HandleState h;
     h.id = first_id + static_cast<int>(i);
-    h.movable = !eh.fixed;
+    h.movable = eh.movable;
     s.insert_handle(static_cast<int>(i), h);
     std::vector<Vertex> vs;
     for (Vertex v : eh.vertices) {
@@ -298,42 +253,6 @@ EditState EditState::from_edit(const Edit& edit, const Mesh& rest, int first_id)
 
 bool EditState::operator==(const EditState& o) const {
   return support_ == o.support_ && handle_ == o.handle_ && handles_ == o.handles_ && params_ == o.params_;
-}
-
-nlohmann::ordered_json edit_to_json(const Edit& edit) {
-  ojson j;
-  j["order"] = edit.settings.order;
-  j["support"] = vertex_selector(edit.support);
-  ojson handles = ojson::array();
-  for (const EditHandle& h : edit.handles) {
-    ojson hj{{"region", vertex_selector(h.vertices)}};
-    if (h.fixed) {
-      hj["fixed"] = true;
-    } else if (h.matrix) {
-      hj["transform"] = matrix_json(*h.matrix);
-    } else if (h.manipulator.pivot) {
-      hj["transform"] = matrix_json(h.manipulator.to_affine(*h.manipulator.pivot));
-    } else if (!is_identity(h.manipulator)) {
-      const Manipulator& m = h.manipulator;
-      const Eigen::AngleAxisd aa(m.rotation.normalized());
-      hj["transform"] = ojson{{"translate", {m.translation.x(), m.translation.y(), m.translation.z()}},
-                              {"rotate", {{"axis", {aa.axis().x(), aa.axis().y(), aa.axis().z()}},
-                                          {"degrees", aa.angle() * 180.0 / std::numbers::pi}}},
-                              {"scale", {m.scale.x(), m.scale.y(), m.scale.z()}}};
-    }
-    handles.push_back(std::move(hj));
-  }
-  j["handles"] = std::move(handles);
-  j["smoothness"] = ojson{{"outer", resolved_outer(edit.settings)}, {"inner", resolved_inner(edit.settings)}};
-  j["anisotropic"] = edit.anisotropic || edit.settings.anisotropic;
-  j["multiresolution"] = edit.multiresolution;
-  return j;
-}
-
-std::string json_text(const nlohmann::ordered_json& j, int expanded_levels) {
-  std::string out;
-  write_json(out, j, 0, expanded_levels);
-  return out + "\n";
 }
 
 }  // namespace freeform::editor

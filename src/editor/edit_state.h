@@ -4,12 +4,11 @@
 // (history.h). to_edit() turns it into the Edit the CLI replays (docs/edit-format.md).
 #pragma once
 
-#include "freeform/bcm/edit.h"
+#include "freeform/edit/edit.h"
 #include "freeform/bcm/manipulator.h"
 #include "freeform/mesh/mesh.h"
 #include "freeform/regions/regions.h"
 
-#include <nlohmann/json_fwd.hpp>
 
 #include <cstdint>
 #include <optional>
@@ -46,7 +45,6 @@ struct HandleState {
 // Bitwise equality of the manipulators and matrices (the undo tests compare exactly).
 bool same_transform(const HandleState& a, const HandleState& b);
 bool operator==(const HandleState& a, const HandleState& b);
-bool is_identity(const Manipulator& m);  // no translation, rotation or scale (pivot ignored)
 
 // `m` with its pivot moved to `pivot` and the translation adjusted so the affine map stays the
 // same (to rounding; exactly for a pure translation): a handle grown while moved keeps moving.
@@ -132,15 +130,5 @@ class EditState {
 
   void check_vertex(Vertex v) const;
 };
-
-// An edit as edit-file JSON (docs/edit-format.md): explicit order, smoothness, anisotropic,
-// multiresolution; {"vertices": [...]} selectors; "matrix" transforms with full round-trip
-// precision (a movable handle without matrix but with a pivot is written as its matrix).
-nlohmann::ordered_json edit_to_json(const Edit& edit);
-
-// JSON text with the first `expanded_levels` levels of objects/arrays on separate lines and
-// everything deeper, and every array of plain values (vertex lists), on one line. Doubles
-// round-trip exactly.
-std::string json_text(const nlohmann::ordered_json& j, int expanded_levels = 2);
 
 }  // namespace freeform::editor

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "editor/edit_state.h"
-#include "freeform/bcm/edit.h"
+#include "freeform/edit/edit.h"
 
 #include <cstddef>
 #include <deque>

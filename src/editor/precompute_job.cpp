@@ -1,20 +1,9 @@
 #include "editor/precompute_job.h"
 
-#include "freeform/bcm/edit_file.h"
-
-#include <chrono>
 #include <exception>
 #include <new>
 
 namespace freeform::editor {
-namespace {
-
-double ms_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
-}
-
-}  // namespace
-
 PreparedSolver::PreparedSolver(const PrecomputeRequest& request, const Progress& progress)
     : rest_(request.rest), tag_(request.tag) {
   if (!rest_) throw InvalidInput("no mesh to precompute on");
@@ -22,29 +11,15 @@ PreparedSolver::PreparedSolver(const PrecomputeRequest& request, const Progress&
     throw InvalidInput("the request names " + std::to_string(request.handle_ids.size()) + " handle ids for " +
                        std::to_string(request.edit.handles.size()) + " handles");
   for (std::size_t i = 0; i < request.edit.handles.size(); ++i)
-    if (!request.edit.handles[i].fixed) movable_ids_.push_back(request.handle_ids[i]);
+    if (request.edit.handles[i].movable) movable_ids_.push_back(request.handle_ids[i]);
   progress.check();
-  const Regions regions = edit_regions(*rest_, request.edit);
-  if (request.edit.multiresolution)
-    multires_ = std::make_unique<MultiresSolver>(*rest_, regions, solver_settings(request.edit), MultiresOptions{}, progress);
-  else
-    bcm_ = std::make_unique<BcmSolver>(*rest_, regions, solver_settings(request.edit), progress);
+  solver_ = std::make_unique<EditSolver>(*rest_, request.edit, progress);
 }
 
 FrameTimings PreparedSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
-  FrameTimings t;
-  t.evaluated = true;
-  if (multires_) {
-    multires_->evaluate(transforms, positions);
-    t.evaluate_ms = multires_->last_timings().base_ms;
-    t.reconstruction_ms = multires_->last_timings().detail_ms;
-  } else {
-    const auto start = std::chrono::steady_clock::now();
-    bcm_->evaluate(transforms, positions);
-    t.evaluate_ms = ms_since(start);
-  }
-  t.total_ms = t.evaluate_ms + t.reconstruction_ms;
-  return t;
+  solver_->evaluate(transforms, positions);
+  const EditTimings& e = solver_->last_timings();
+  return {e.evaluate_ms, e.reconstruction_ms, e.evaluate_ms + e.reconstruction_ms, true};
 }
 
 PrecomputeJob::~PrecomputeJob() {

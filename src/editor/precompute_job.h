@@ -1,13 +1,12 @@
-// The background precomputation of the editor (issue 4): builds a BcmSolver or MultiresSolver
-// (DESIGN.md sections 4 and 6) on one worker thread from an immutable snapshot, so the UI keeps
+// The background precomputation of the editor (issue 4): builds the edit's EditSolver on one
+// worker thread from an immutable snapshot, so the UI keeps
 // drawing the old result meanwhile. Progress and errors are read from the UI thread; nothing
 // is ever thrown into it. A newer request cancels and supersedes the running one.
 #pragma once
 
-#include "freeform/bcm/edit.h"
+#include "freeform/edit/edit_solver.h"
 #include "freeform/common/progress.h"
 #include "freeform/mesh/mesh.h"
-#include "freeform/multires/multires_solver.h"
 
 #include <atomic>
 #include <condition_variable>
@@ -46,16 +45,15 @@ struct PrecomputeRequest {
 // workspace, so call it from one thread at a time).
 class PreparedSolver {
  public:
-  // Builds exactly as deform() does: edit_regions + solver_settings, MultiresSolver with default
-  // options if edit.multiresolution else BcmSolver. Throws like them (InvalidInput, SolverError,
+  // The edit's EditSolver (as deform() builds it). Throws like it (InvalidInput, SolverError,
   // Cancelled, ...).
   PreparedSolver(const PrecomputeRequest& request, const Progress& progress);
 
-  bool multiresolution() const { return multires_ != nullptr; }
-  int n_movable() const { return bcm().n_movable(); }
-  const BcmSolver& bcm() const { return multires_ ? multires_->bcm() : *bcm_; }
-  const BcmStats& stats() const { return bcm().stats(); }
-  const MultiresSolver* multires() const { return multires_.get(); }
+  const EditSolver& solver() const { return *solver_; }
+  bool multiresolution() const { return solver_->multires() != nullptr; }
+  int n_movable() const { return solver_->n_movable(); }
+  const BcmStats& stats() const { return solver_->stats().bcm; }
+  const std::vector<Vertex>& touched() const { return solver_->touched(); }
   // Handle id of each movable index (the order evaluate() expects transforms in).
   const std::vector<int>& movable_ids() const { return movable_ids_; }
   std::uint64_t tag() const { return tag_; }
@@ -69,8 +67,7 @@ class PreparedSolver {
   std::shared_ptr<const Mesh> rest_;
   std::vector<int> movable_ids_;
   std::uint64_t tag_ = 0;
-  std::unique_ptr<BcmSolver> bcm_;
-  std::unique_ptr<MultiresSolver> multires_;
+  std::unique_ptr<EditSolver> solver_;
 };
 
 enum class JobState { Idle, Running, Finished, Failed, Cancelled };

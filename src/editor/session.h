@@ -19,10 +19,9 @@
 #pragma once
 
 #include "editor/edit_state.h"
-#include "freeform/bcm/edit.h"
+#include "freeform/common/json_reader.h"
+#include "freeform/edit/edit.h"
 #include "freeform/mesh/mesh.h"
-
-#include <nlohmann/json.hpp>
 
 #include <string>
 #include <string_view>
@@ -34,7 +33,7 @@ struct Session {
   std::string mesh_path;      // absolute path of the original mesh file
   std::string mesh_relative;  // the same, relative to the session file's folder
   int n_vertices = 0;         // of that mesh (a changed mesh file is refused)
-  std::vector<nlohmann::ordered_json> applied;  // edit objects, in the order they were applied
+  std::vector<Json> applied;  // edit objects, in the order they were applied
   EditState current;          // its n_vertices() must equal n_vertices
   int active_handle = -1;     // a handle id of `current` or -1
 };

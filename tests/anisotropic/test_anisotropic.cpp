@@ -1,10 +1,10 @@
 // Anisotropic bending (DESIGN.md section 5, param/anisotropic.h, BcmSettings::anisotropic,
-// deform() with Edit::anisotropic):
+// deform() with the anisotropic setting):
 // a long thin support is bent across its whole boundary, the solution is radially symmetric
 // in the equalized parameter domain, a round support is unaffected, and the fallbacks are
 // taken exactly for genus > 0 (never silently).
 #include "bcm/bcm_fixtures.h"
-#include "freeform/bcm/edit.h"
+#include "freeform/edit/edit_solver.h"
 #include "freeform/common/error.h"
 #include "freeform/mesh/traversal.h"
 #include "freeform/param/anisotropic.h"
@@ -306,16 +306,14 @@ TEST(Anisotropic, DeformWithAnEditFlagUsesIt) {
   h.vertices = s.handles[0].vertices;
   h.manipulator.translation = Vec3(0, 0, 1);
   edit.handles.push_back(h);
-  edit.anisotropic = true;
+  edit.settings.anisotropic = true;
   edit.multiresolution = false;  // a flat plane has no detail; plain BCM
-  BcmStats stats;
+  EditStats stats;
   const Mesh out = deform(s.mesh, edit, &stats);
-  EXPECT_TRUE(stats.anisotropic) << stats.anisotropic_fallback;
-  EXPECT_TRUE(solver_settings(edit).anisotropic);
-  edit.anisotropic = false;
-  EXPECT_FALSE(solver_settings(edit).anisotropic);
+  EXPECT_TRUE(stats.bcm.anisotropic) << stats.bcm.anisotropic_fallback;
+  edit.settings.anisotropic = false;
   (void)deform(s.mesh, edit, &stats);
-  EXPECT_FALSE(stats.anisotropic);
+  EXPECT_FALSE(stats.bcm.anisotropic);
 }
 
 }  // namespace

@@ -4,7 +4,8 @@
 #include "editor/document.h"
 #include "editor_test_util.h"
 
-#include "freeform/bcm/edit_file.h"
+#include "freeform/edit/edit_json.h"
+#include "freeform/edit/edit_solver.h"
 #include "freeform/common/error.h"
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/generators.h"

@@ -3,7 +3,8 @@
 #include "editor/edit_state.h"
 #include "editor_test_util.h"
 
-#include "freeform/bcm/edit_file.h"
+#include "freeform/edit/edit_json.h"
+#include "freeform/edit/edit_solver.h"
 #include "freeform/common/error.h"
 #include "freeform/mesh/generators.h"
 
@@ -154,21 +155,21 @@ TEST(EditState, EditRoundTripsThroughJsonAndFromEdit) {
   const Edit e = s.to_edit(mesh);
   ASSERT_EQ(e.handles.size(), 2u);
   EXPECT_TRUE(e.handles[0].matrix.has_value());
-  EXPECT_TRUE(e.handles[1].fixed);
+  EXPECT_FALSE(e.handles[1].movable);
   EXPECT_EQ(e.support.size(), static_cast<std::size_t>(s.n_support()));
 
-  const Edit back = parse_edit(nlohmann::json::parse(json_text(edit_to_json(e))), mesh, "test", ".");
+  const Edit back = parse_edit_text(json_text(edit_to_json(e)), mesh, "test", ".");
   EXPECT_EQ(back.support, e.support);
   ASSERT_EQ(back.handles.size(), 2u);
   for (std::size_t i = 0; i < 2; ++i) {
     EXPECT_EQ(back.handles[i].vertices, e.handles[i].vertices);
-    EXPECT_EQ(back.handles[i].fixed, e.handles[i].fixed);
+    EXPECT_EQ(back.handles[i].movable, e.handles[i].movable);
   }
   EXPECT_TRUE(back.handles[0].matrix->matrix() == e.handles[0].matrix->matrix());  // bit for bit
   EXPECT_EQ(back.settings.order, 2);
   EXPECT_EQ(back.settings.smoothness.outer, 0.5);
   EXPECT_EQ(back.settings.smoothness.inner, 1.0);
-  EXPECT_TRUE(back.anisotropic);
+  EXPECT_TRUE(back.settings.anisotropic);
   EXPECT_FALSE(back.multiresolution);
 
   const EditState again = EditState::from_edit(back, mesh, 10);
@@ -201,8 +202,8 @@ TEST(EditState, FromEditRefusesOverlappingHandles) {
   const Mesh mesh = plane();
   Edit e;
   e.support = {Vertex(1), Vertex(2), Vertex(3)};
-  e.handles.push_back(EditHandle{{Vertex(2)}, false, {}, {}});
-  e.handles.push_back(EditHandle{{Vertex(2), Vertex(3)}, true, {}, {}});
+  e.handles.push_back(EditHandle{{Vertex(2)}, true, {}, {}});
+  e.handles.push_back(EditHandle{{Vertex(2), Vertex(3)}, false, {}, {}});
   try {
     (void)EditState::from_edit(e, mesh);
     FAIL() << "no error";

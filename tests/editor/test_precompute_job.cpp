@@ -23,8 +23,8 @@ PrecomputeRequest request(std::shared_ptr<const Mesh> mesh, std::uint64_t tag, b
   r.edit.settings.order = 2;
   r.edit.multiresolution = multires;
   r.edit.support = disc(*mesh, Vec3(0.5, 0.5, 0), 0.4);
-  r.edit.handles.push_back(EditHandle{disc(*mesh, Vec3(0.5, 0.5, 0), 0.1), false, {}, {}});
-  r.edit.handles.push_back(EditHandle{disc(*mesh, Vec3(0.75, 0.5, 0), 0.05), true, {}, {}});
+  r.edit.handles.push_back(EditHandle{disc(*mesh, Vec3(0.5, 0.5, 0), 0.1), true, {}, {}});
+  r.edit.handles.push_back(EditHandle{disc(*mesh, Vec3(0.75, 0.5, 0), 0.05), false, {}, {}});
   r.handle_ids = {7, 3};
   r.tag = tag;
   return r;

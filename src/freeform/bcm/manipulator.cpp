@@ -31,6 +31,11 @@ Eigen::Affine3d Manipulator::to_affine(const Vec3& default_pivot) const {
   return t;
 }
 
+bool is_identity(const Manipulator& m) {
+  return m.translation == Vec3::Zero() && m.scale == Vec3::Ones() &&
+         m.rotation.coeffs() == Eigen::Quaterniond::Identity().coeffs();
+}
+
 Eigen::Affine3d affine_from_matrix(const Eigen::Matrix4d& m) {
   if (!m.allFinite()) throw InvalidInput("transform matrix has non-finite entries");
   const Eigen::RowVector4d last = m.row(3);

@@ -24,6 +24,9 @@ struct Manipulator {
   Eigen::Affine3d to_affine(const Vec3& default_pivot) const;
 };
 
+// No translation, rotation or scale (the pivot is ignored).
+bool is_identity(const Manipulator& m);
+
 // Throws InvalidInput unless the 4x4 matrix is finite, its last row is (0 0 0 1) and its
 // linear part is invertible (|det| > 1e-12 * scale^3).
 Eigen::Affine3d affine_from_matrix(const Eigen::Matrix4d& m);

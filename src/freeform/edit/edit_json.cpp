@@ -1,4 +1,4 @@
-#include "freeform/bcm/edit_file.h"
+#include "freeform/edit/edit_json.h"
 
 #include "freeform/common/error.h"
 #include "freeform/common/json_messages.h"
@@ -6,20 +6,13 @@
 #include "freeform/regions/sel_file.h"
 #include "freeform/regions/selectors.h"
 
-#include <nlohmann/json.hpp>
-
-#include <algorithm>
-#include <climits>
 #include <cmath>
-#include <initializer_list>
 #include <map>
 #include <numbers>
-#include <sstream>
 
 namespace freeform {
 namespace {
 
-using json = nlohmann::json;
 namespace fs = std::filesystem;
 
 using json_messages::index_path;
@@ -29,26 +22,27 @@ using json_messages::quoted;
 using json_messages::type_of;
 
 // Rejects a 4x4 matrix that is not a finite, invertible affine map (message names `what`).
-void check_matrix(const Eigen::Matrix4d& m, const std::string& what) {
+Eigen::Affine3d checked_matrix(const Eigen::Matrix4d& m, const std::string& what) {
   if (!m.allFinite()) throw InvalidInput(what + " has a non-finite entry");
   if (m(3, 0) != 0.0 || m(3, 1) != 0.0 || m(3, 2) != 0.0 || m(3, 3) != 1.0)
     throw InvalidInput(what + ": the last row must be 0 0 0 1 (an affine map), got " + num(m(3, 0)) + " " +
                        num(m(3, 1)) + " " + num(m(3, 2)) + " " + num(m(3, 3)));
-  const Eigen::Matrix3d a = m.topLeftCorner<3, 3>();
-  const double s = a.cwiseAbs().maxCoeff();
-  const double det = a.determinant();
-  if (!(s > 0.0) || !std::isfinite(det) || std::abs(det) <= 1e-12 * s * s * s)
-    throw InvalidInput(what + " is singular (determinant " + num(det) + "): it would flatten the handle");
+  try {
+    return affine_from_matrix(m);
+  } catch (const InvalidInput&) {  // the only check left: an invertible linear part
+    throw InvalidInput(what + " is singular (determinant " + num(m.topLeftCorner<3, 3>().determinant()) +
+                       "): it would flatten the handle");
+  }
 }
 
-class Parser {
+class Parser : JsonReader {
  public:
   Parser(const Mesh& mesh, std::string name, fs::path base_dir)
-      : mesh_(mesh), name_(std::move(name)), base_(std::move(base_dir)) {}
+      : JsonReader(std::move(name)), mesh_(mesh), base_(std::move(base_dir)) {}
 
-  Edit edit(const json& j) {
+  Edit edit(const Json& j) {
     if (!j.is_object()) fail("the edit must be a JSON object, got " + type_of(j));
-    keys(j, "", {"order", "support", "handles", "smoothness", "anisotropic", "multiresolution"});
+    keys(j, "", {"order", "support", "handles", "smoothness", "anisotropic", "multiresolution", "deformation"});
     Edit e;
     if (j.contains("order")) {
       const long long k = integer(j["order"], "order");
@@ -58,64 +52,30 @@ class Parser {
       e.settings.order = static_cast<int>(k);
     }
     if (j.contains("smoothness")) smoothness(j["smoothness"], e.settings);
-    if (j.contains("anisotropic")) e.anisotropic = boolean(j["anisotropic"], "anisotropic");
+    if (j.contains("anisotropic")) e.settings.anisotropic = boolean(j["anisotropic"], "anisotropic");
     if (j.contains("multiresolution")) e.multiresolution = boolean(j["multiresolution"], "multiresolution");
+    if (j.contains("deformation")) e.deformation = deformation(j["deformation"]);
     e.support = selector(required(j, "", "support"), "support");
     if (j.contains("handles")) {
-      const json& hs = j["handles"];
-      if (!hs.is_array()) fail(quoted("handles") + " must be an array of handles, got " + type_of(hs));
+      const Json& hs = array(j["handles"], "handles");
       for (std::size_t i = 0; i < hs.size(); ++i) e.handles.push_back(handle(hs[i], index_path("handles", i)));
     }
     return e;
   }
 
  private:
-  [[noreturn]] void fail(const std::string& message) const { throw InvalidInput(name_ + ": " + message); }
+  const Mesh& mesh_;
+  fs::path base_;
+  std::map<std::string, std::vector<int>> sel_cache_;
 
-  const json& required(const json& obj, const std::string& path, const char* key) const {
-    if (!obj.contains(key)) fail("missing required key " + quoted(key_path(path, key)));
-    return obj[key];
+  Deformation deformation(const Json& j) const {
+    const std::string name = string(j, "deformation");
+    for (Deformation d : {Deformation::Linear})
+      if (name == deformation_name(d)) return d;
+    fail("\"deformation\" must be \"linear\", got \"" + name + "\"");
   }
 
-  void keys(const json& obj, const std::string& path, std::initializer_list<const char*> allowed) const {
-    for (const auto& [key, value] : obj.items()) {
-      if (std::find_if(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }) != allowed.end())
-        continue;
-      std::string list;
-      for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + "\"" + a + "\"";
-      fail("unknown key " + quoted(key_path(path, key)) + " (allowed here: " + list + ")");
-    }
-  }
-
-  void object(const json& j, const std::string& path) const {
-    if (!j.is_object()) fail(quoted(path) + " must be an object, got " + type_of(j));
-  }
-
-  long long integer(const json& j, const std::string& path) const {
-    if (j.is_number_unsigned())
-      return static_cast<long long>(std::min<unsigned long long>(j.get<unsigned long long>(), LLONG_MAX));
-    if (!j.is_number_integer()) fail(quoted(path) + " must be an integer, got " + type_of(j));
-    return j.get<long long>();
-  }
-
-  double number(const json& j, const std::string& path) const {
-    if (!j.is_number()) fail(quoted(path) + " must be a number, got " + type_of(j));
-    const double x = j.get<double>();
-    if (!std::isfinite(x)) fail(quoted(path) + " must be finite");
-    return x;
-  }
-
-  bool boolean(const json& j, const std::string& path) const {
-    if (!j.is_boolean()) fail(quoted(path) + " must be true or false, got " + type_of(j));
-    return j.get<bool>();
-  }
-
-  Vec3 vec3(const json& j, const std::string& path) const {
-    if (!j.is_array() || j.size() != 3) fail(quoted(path) + " must be an array of 3 numbers [x, y, z]");
-    return {number(j[0], index_path(path, 0)), number(j[1], index_path(path, 1)), number(j[2], index_path(path, 2))};
-  }
-
-  void smoothness(const json& j, BcmSettings& settings) const {
+  void smoothness(const Json& j, BcmSettings& settings) const {
     object(j, "smoothness");
     keys(j, "smoothness", {"outer", "inner"});
     const int k = settings.order;
@@ -130,7 +90,7 @@ class Parser {
     }
   }
 
-  std::vector<Vertex> selector(const json& j, const std::string& path) {
+  std::vector<Vertex> selector(const Json& j, const std::string& path) {
     object(j, path);
     keys(j, path, {"vertices", "sphere", "geodesic", "sel", "labels"});
     int kinds = 0;
@@ -138,12 +98,12 @@ class Parser {
     if (kinds != 1)
       fail(quoted(path) + " must have exactly one of \"vertices\", \"sphere\", \"geodesic\", \"sel\"" +
            (kinds == 0 ? std::string(" (it has none)") : " (it has " + std::to_string(kinds) + ")"));
-    const std::string who = name_ + ": " + path;
+    const std::string who = name() + ": " + path;
     if (j.contains("labels") && !j.contains("sel"))
       fail(quoted(key_path(path, "labels")) + " is only allowed together with \"sel\"");
     if (j.contains("vertices")) {
       const std::string p = key_path(path, "vertices");
-      const json& list = j["vertices"];
+      const Json& list = j["vertices"];
       if (!list.is_array()) fail(quoted(p) + " must be an array of vertex indices, got " + type_of(list));
       std::vector<long long> ids;
       for (std::size_t i = 0; i < list.size(); ++i) ids.push_back(integer(list[i], index_path(p, i)));
@@ -152,7 +112,7 @@ class Parser {
     for (const char* kind : {"sphere", "geodesic"}) {
       if (!j.contains(kind)) continue;
       const std::string p = key_path(path, kind);
-      const json& ball = j[kind];
+      const Json& ball = j[kind];
       object(ball, p);
       keys(ball, p, {"center", "radius"});
       const Vec3 c = vec3(required(ball, p, "center"), key_path(p, "center"));
@@ -162,7 +122,7 @@ class Parser {
     }
     const std::string p = key_path(path, "sel");
     if (!j["sel"].is_string()) fail(quoted(p) + " must be a file name (string), got " + type_of(j["sel"]));
-    const json& wanted_j = required(j, path, "labels");
+    const Json& wanted_j = required(j, path, "labels");
     const std::string lp = key_path(path, "labels");
     if (!wanted_j.is_array() || wanted_j.empty()) fail(quoted(lp) + " must be a non-empty array of labels (0, 1, 2)");
     std::vector<int> wanted;
@@ -178,34 +138,25 @@ class Parser {
     return select_labels(it->second, wanted, who);
   }
 
-  EditHandle handle(const json& j, const std::string& path) {
+  // The file format keeps "fixed": true for an immovable handle.
+  EditHandle handle(const Json& j, const std::string& path) {
     object(j, path);
     keys(j, path, {"region", "transform", "fixed"});
     EditHandle h;
-    if (j.contains("fixed")) h.fixed = boolean(j["fixed"], key_path(path, "fixed"));
-    if (h.fixed && j.contains("transform"))
+    if (j.contains("fixed")) h.movable = !boolean(j["fixed"], key_path(path, "fixed"));
+    if (!h.movable && j.contains("transform"))
       fail(quoted(path) + " is fixed and has a transform: a fixed handle does not move; remove one of them");
     h.vertices = selector(required(j, path, "region"), key_path(path, "region"));
     if (j.contains("transform")) transform(j["transform"], key_path(path, "transform"), h);
     return h;
   }
 
-  void transform(const json& j, const std::string& path, EditHandle& h) const {
+  void transform(const Json& j, const std::string& path, EditHandle& h) const {
     object(j, path);
     if (j.contains("matrix")) {
       keys(j, path, {"matrix"});
       const std::string p = key_path(path, "matrix");
-      const json& rows = j["matrix"];
-      if (!rows.is_array() || rows.size() != 4) fail(quoted(p) + " must be 4 rows of 4 numbers (row-major)");
-      Eigen::Matrix4d m;
-      for (std::size_t r = 0; r < 4; ++r) {
-        const std::string rp = index_path(p, r);
-        if (!rows[r].is_array() || rows[r].size() != 4) fail(quoted(rp) + " must be a row of 4 numbers");
-        for (std::size_t c = 0; c < 4; ++c)
-          m(static_cast<int>(r), static_cast<int>(c)) = number(rows[r][c], index_path(rp, c));
-      }
-      check_matrix(m, name_ + ": " + quoted(p));
-      h.matrix = Eigen::Affine3d(m);
+      h.matrix = checked_matrix(matrix4(j["matrix"], p), name() + ": " + quoted(p));
       return;
     }
     keys(j, path, {"translate", "rotate", "scale", "pivot"});
@@ -221,7 +172,7 @@ class Parser {
     }
     if (j.contains("rotate")) {
       const std::string p = key_path(path, "rotate");
-      const json& rot = j["rotate"];
+      const Json& rot = j["rotate"];
       object(rot, p);
       keys(rot, p, {"axis", "degrees"});
       const Vec3 axis = vec3(required(rot, p, "axis"), key_path(p, "axis"));
@@ -230,66 +181,29 @@ class Parser {
       man.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, axis.normalized()));
     }
   }
-
-  const Mesh& mesh_;
-  std::string name_;
-  fs::path base_;
-  std::map<std::string, std::vector<int>> sel_cache_;
 };
 
-// 1-based line and column of byte offset `pos` in `text`.
-std::pair<std::size_t, std::size_t> line_column(std::string_view text, std::size_t pos) {
-  pos = std::min(pos, text.size());
-  std::size_t line = 1, col = 1;
-  for (std::size_t i = 0; i < pos; ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      col = 1;
-    } else {
-      ++col;
-    }
-  }
-  return {line, col};
+Json vertex_selector(const std::vector<Vertex>& vs) {
+  Json list = Json::array();
+  for (Vertex v : vs) list.push_back(v.idx());
+  return Json{{"vertices", std::move(list)}};
+}
+
+Json matrix_json(const Eigen::Affine3d& t) {
+  Json rows = Json::array();
+  for (int r = 0; r < 3; ++r) rows.push_back({t.matrix()(r, 0), t.matrix()(r, 1), t.matrix()(r, 2), t.matrix()(r, 3)});
+  rows.push_back({0.0, 0.0, 0.0, 1.0});  // exactly affine, as the parser demands
+  return Json{{"matrix", std::move(rows)}};
 }
 
 }  // namespace
 
-Edit parse_edit(const nlohmann::json& j, const Mesh& mesh, const std::string& name, const fs::path& base_dir) {
+Edit parse_edit(const Json& j, const Mesh& mesh, const std::string& name, const fs::path& base_dir) {
   return Parser(mesh, name, base_dir).edit(j);
 }
 
 Edit parse_edit_text(std::string_view text, const Mesh& mesh, const std::string& name, const fs::path& base_dir) {
-  json j;
-  // nlohmann keeps the last of repeated keys silently; a strict parser refuses them.
-  std::vector<std::vector<std::string>> seen;  // keys of each open object
-  std::string duplicate;
-  const json::parser_callback_t check_duplicates = [&](int, json::parse_event_t event, json& parsed) {
-    if (event == json::parse_event_t::object_start) seen.emplace_back();
-    if (event == json::parse_event_t::object_end && !seen.empty()) seen.pop_back();
-    if (event == json::parse_event_t::key && !seen.empty() && duplicate.empty()) {
-      const std::string key = parsed.get<std::string>();
-      if (std::find(seen.back().begin(), seen.back().end(), key) != seen.back().end()) duplicate = key;
-      seen.back().push_back(key);
-    }
-    return true;
-  };
-  try {
-    j = json::parse(text, check_duplicates);
-  } catch (const json::parse_error& e) {
-    // e.byte is 1-based and points just past the offending character.
-    const auto [line, col] = line_column(text, e.byte > 0 ? e.byte - 1 : 0);
-    std::string reason = e.what();
-    const std::size_t colon = reason.find(": ", reason.find("parse error"));
-    if (colon != std::string::npos) reason = reason.substr(colon + 2);
-    throw IoError(name, line, "malformed JSON at column " + std::to_string(col) + ": " + reason);
-  } catch (const json::exception& e) {  // e.g. a number too large for a double
-    std::string reason = e.what();
-    const std::size_t bracket = reason.find("] ");
-    if (bracket != std::string::npos) reason = reason.substr(bracket + 2);
-    throw IoError(name, 0, "malformed JSON: " + reason);
-  }
-  if (!duplicate.empty()) throw InvalidInput(name + ": the key \"" + duplicate + "\" appears twice in one object");
-  return parse_edit(j, mesh, name, base_dir);
+  return parse_edit(parse_json_text(text, name), mesh, name, base_dir);
 }
 
 Edit read_edit_file(const std::string& path, const Mesh& mesh) {
@@ -300,7 +214,6 @@ Edit edit_from_sel_def(const std::string& sel_path, const std::string& def_path,
   if (order < 1 || order > 3) throw InvalidInput("order must be 1, 2 or 3, got " + std::to_string(order));
   const std::vector<int> labels = read_sel_file(sel_path, mesh.n_vertices());
   const Eigen::Matrix4d m = read_def_file(def_path);
-  check_matrix(m, def_path + ": the matrix");
   Edit e;
   e.settings.order = order;
   const int support_labels[] = {kSelFree, kSelHandle};
@@ -308,20 +221,42 @@ Edit edit_from_sel_def(const std::string& sel_path, const std::string& def_path,
   e.support = select_labels(labels, support_labels, sel_path + ": the support (labels 1 and 2)");
   EditHandle h;
   h.vertices = select_labels(labels, handle_label, sel_path + ": the handle (label 2)");
-  h.matrix = Eigen::Affine3d(m);
+  h.matrix = checked_matrix(m, def_path + ": the matrix");
   e.handles.push_back(std::move(h));
   return e;
 }
 
-void check_edit_available(const Edit& /*edit*/) {
-  // Everything an edit file can express is available (anisotropic, multiresolution).
+Json edit_to_json(const Edit& edit) {
+  Json j;
+  j["order"] = edit.settings.order;
+  j["support"] = vertex_selector(edit.support);
+  Json handles = Json::array();
+  for (const EditHandle& h : edit.handles) {
+    Json hj{{"region", vertex_selector(h.vertices)}};
+    if (!h.movable) {
+      hj["fixed"] = true;
+    } else if (h.matrix) {
+      hj["transform"] = matrix_json(*h.matrix);
+    } else if (h.manipulator.pivot) {
+      hj["transform"] = matrix_json(h.manipulator.to_affine(*h.manipulator.pivot));
+    } else if (!is_identity(h.manipulator)) {
+      const Manipulator& m = h.manipulator;
+      const Eigen::AngleAxisd aa(m.rotation.normalized());
+      hj["transform"] = Json{{"translate", {m.translation.x(), m.translation.y(), m.translation.z()}},
+                             {"rotate", {{"axis", {aa.axis().x(), aa.axis().y(), aa.axis().z()}},
+                                         {"degrees", aa.angle() * 180.0 / std::numbers::pi}}},
+                             {"scale", {m.scale.x(), m.scale.y(), m.scale.z()}}};
+    }
+    handles.push_back(std::move(hj));
+  }
+  j["handles"] = std::move(handles);
+  j["smoothness"] = Json{{"outer", resolved_outer(edit.settings)}, {"inner", resolved_inner(edit.settings)}};
+  j["anisotropic"] = edit.settings.anisotropic;
+  j["multiresolution"] = edit.multiresolution;
+  j["deformation"] = deformation_name(edit.deformation);
+  return j;
 }
 
-Regions edit_regions(const Mesh& mesh, const Edit& edit) {
-  std::vector<HandleRegion> handles;
-  handles.reserve(edit.handles.size());
-  for (const EditHandle& h : edit.handles) handles.push_back(HandleRegion{h.vertices, !h.fixed});
-  return Regions(mesh, edit.support, std::move(handles));
-}
+void write_edit_file(const std::string& path, const Edit& edit) { write_file_atomic(path, json_text(edit_to_json(edit))); }
 
 }  // namespace freeform

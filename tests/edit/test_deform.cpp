@@ -1,13 +1,17 @@
-// The one-shot deform() (bcm/edit.h): sanity on a flat grid for k = 1..3.
-#include "freeform/bcm/edit.h"
-#include "freeform/bcm/edit_file.h"
+// The one-shot deform() and EditSolver (edit/edit_solver.h): sanity on a flat grid for k = 1..3.
+#include "freeform/edit/edit_json.h"
+#include "freeform/edit/edit_solver.h"
 #include "freeform/common/error.h"
 #include "freeform/mesh/generators.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <string>
+#include <vector>
 
 using namespace freeform;
 using ::testing::HasSubstr;
@@ -38,12 +42,14 @@ class DeformOrder : public ::testing::TestWithParam<int> {};
 TEST_P(DeformOrder, TranslatingTheOnlyHandle) {
   const Vec3 t(0, 0, 0.2);
   const Fixture f(GetParam(), t);
-  BcmStats stats;
-  const Mesh out = deform(f.mesh, f.edit, &stats);
+  EditStats edit_stats;
+  const Mesh out = deform(f.mesh, f.edit, &edit_stats);
+  const BcmStats& stats = edit_stats.bcm;
   ASSERT_EQ(out.n_vertices(), f.mesh.n_vertices());
   ASSERT_EQ(out.n_faces(), f.mesh.n_faces());
   EXPECT_FALSE(stats.solver.empty());
   EXPECT_GT(stats.free, 0);
+  EXPECT_TRUE(edit_stats.multires.has_value());  // the default
   const auto& handle = f.edit.handles[0].vertices;
   int free = 0;
   for (Vertex v : f.mesh.vertices()) {
@@ -79,9 +85,8 @@ TEST(Deform, DefaultPivotIsTheHandleCentroid) {
   Fixture f(2, Vec3::Zero());
   f.edit.handles[0].manipulator.rotation = Manipulator::axis_angle(Vec3(0, 0, 1), 90);
   f.edit.handles[0].manipulator.scale = Vec3(2, 2, 2);
-  const Regions regions = edit_regions(f.mesh, f.edit);
-  const BcmSolver solver(f.mesh, regions, f.edit.settings);
-  const auto transforms = edit_transforms(f.edit, solver);
+  const EditSolver solver(f.mesh, f.edit);
+  const auto transforms = solver.transforms(f.edit);
   ASSERT_EQ(transforms.size(), 1u);
   const Vec3 c = solver.handle_centroid(0);
   EXPECT_LT((transforms[0] * c - c).norm(), 1e-12);
@@ -94,7 +99,7 @@ TEST(Deform, MatrixAndFixedHandles) {
   m(0, 3) = 0.05;
   f.edit.handles[0].matrix = Eigen::Affine3d(m);
   EditHandle fixed;
-  fixed.fixed = true;
+  fixed.movable = false;
   fixed.vertices = {Vertex(10 * 21 + 14)};  // (0.7, 0.5): inside the support, held in place
   f.edit.handles.push_back(fixed);
   const Mesh out = deform(f.mesh, f.edit);
@@ -104,11 +109,11 @@ TEST(Deform, MatrixAndFixedHandles) {
 
 TEST(Deform, RefusesWhatIsNotAvailableOrNotSolvable) {
   Fixture f(2);
-  f.edit.anisotropic = true;  // available (tests/anisotropic): the edit goes through
-  BcmStats stats;
+  f.edit.settings.anisotropic = true;  // available (tests/anisotropic): the edit goes through
+  EditStats stats;
   EXPECT_NO_THROW((void)deform(f.mesh, f.edit, &stats));
-  EXPECT_TRUE(stats.anisotropic || !stats.anisotropic_fallback.empty());
-  f.edit.anisotropic = false;
+  EXPECT_TRUE(stats.bcm.anisotropic || !stats.bcm.anisotropic_fallback.empty());
+  f.edit.settings.anisotropic = false;
 
   // A closed sphere whose support is every vertex and that has no handle: nothing holds it.
   const Mesh sphere = Mesh::from_soup(make_icosphere(1));
@@ -125,4 +130,88 @@ TEST(Deform, MultiresolutionIsTheDefaultAndMatchesPlainBcmWithoutDetail) {
   f.edit.multiresolution = false;
   const Mesh plain = deform(f.mesh, f.edit);
   for (Vertex v : f.mesh.vertices()) EXPECT_LT((multires.position(v) - plain.position(v)).norm(), 1e-12) << v.idx();
+}
+
+// touched() is exactly the set of vertices a frame can move: every vertex that moves under a
+// random two-handle edit is in it, and it is the free plus the movable-handle vertices.
+TEST(EditSolver, TouchedCoversEveryMovedVertexAndNothingElse) {
+  for (const bool multires : {false, true}) {
+    Fixture f(3);
+    f.edit.multiresolution = multires;
+    EditHandle still;
+    still.movable = false;
+    still.vertices = {Vertex(10 * 21 + 14)};
+    f.edit.handles.push_back(still);
+    const EditSolver solver(f.mesh, f.edit);
+    const std::vector<Vertex>& touched = solver.touched();
+    EXPECT_TRUE(std::is_sorted(touched.begin(), touched.end()));
+    EXPECT_EQ(static_cast<int>(touched.size()),
+              solver.regions().n_free() + static_cast<int>(f.edit.handles[0].vertices.size()));
+    EXPECT_FALSE(contains(touched, still.vertices[0]));
+    Eigen::Affine3d t = Eigen::Affine3d::Identity();
+    t.rotate(Eigen::AngleAxisd(0.4, Vec3(1, 1, 0).normalized()));
+    t.translation() = Vec3(0.1, -0.05, 0.3);
+    const std::vector<Eigen::Affine3d> transforms{t};
+    VertexData<Vec3> positions = f.mesh.positions();
+    solver.evaluate(transforms, positions);
+    int moved = 0;
+    for (Vertex v : f.mesh.vertices()) {
+      if (positions[v] == f.mesh.position(v)) continue;
+      ++moved;
+      EXPECT_TRUE(contains(touched, v)) << "vertex " << v.idx() << " moved but is not in touched()";
+    }
+    EXPECT_EQ(moved, static_cast<int>(touched.size()));  // a generic motion moves all of them
+    EXPECT_TRUE(solver.problems(positions).ok());
+    EXPECT_GE(solver.last_timings().evaluate_ms, 0.0);
+    EXPECT_EQ(solver.last_timings().reconstruction_ms > 0.0 || !multires, true);
+  }
+}
+
+TEST(EditSolver, EvaluateEqualsDeformAndChecksItsArguments) {
+  Fixture f(2);
+  f.edit.handles[0].manipulator.rotation = Manipulator::axis_angle(Vec3(0, 1, 0), 30);
+  const EditSolver solver(f.mesh, f.edit);
+  VertexData<Vec3> positions = f.mesh.positions();
+  solver.evaluate(solver.transforms(f.edit), positions);
+  const Mesh once = deform(f.mesh, f.edit);
+  for (Vertex v : f.mesh.vertices()) EXPECT_EQ(positions[v], once.position(v)) << v.idx();
+  EXPECT_EQ(solver.n_movable(), 1);
+  EXPECT_EQ(solver.stats().deformation, Deformation::Linear);
+
+  const std::vector<Eigen::Affine3d> none;
+  EXPECT_THROW(solver.evaluate(none, positions), InvalidInput);
+  Edit two = f.edit;
+  two.handles.push_back(f.edit.handles[0]);
+  EXPECT_THAT([&] { (void)solver.transforms(two); },
+              ::testing::ThrowsMessage<InvalidInput>(HasSubstr("the edit has 2 movable handles, the solver 1")));
+  const VertexData<Vec3> short_positions(3, Vec3::Zero());
+  EXPECT_THROW((void)solver.problems(short_positions), InvalidInput);
+}
+
+TEST(EditSolver, NonFinitePositionsAreNamed) {
+  Fixture f(2);
+  const EditSolver solver(f.mesh, f.edit);
+  VertexData<Vec3> positions = f.mesh.positions();
+  solver.evaluate(solver.transforms(f.edit), positions);
+  const Vertex bad = solver.touched()[3];
+  positions[bad] = Vec3(std::nan(""), 0, 0);
+  const EditProblems p = solver.problems(positions);
+  EXPECT_EQ(p.non_finite, 1);
+  EXPECT_EQ(p.first_non_finite, bad);
+  EXPECT_THAT([&] { require_finite(p); },
+              ::testing::ThrowsMessage<SolverError>(HasSubstr("the first at vertex " + std::to_string(bad.idx()))));
+}
+
+TEST(EditSolver, ProgressCancelsThePrecomputation) {
+  Fixture f(3);
+  std::atomic<bool> cancel{true};
+  Progress progress;
+  progress.cancel = &cancel;
+  EXPECT_THROW(EditSolver(f.mesh, f.edit, progress), Cancelled);
+  cancel = false;
+  std::vector<std::string> stages;
+  progress.report = [&](std::string_view stage, double) { stages.emplace_back(stage); };
+  const EditSolver solver(f.mesh, f.edit, progress);
+  EXPECT_FALSE(stages.empty());
+  EXPECT_EQ(stages.back(), "detail");  // multiresolution last
 }

@@ -1,0 +1,46 @@
+// One edit as data (the resolved form of an edit file, docs/edit-format.md): the support, the
+// handles with their transforms, the settings and the deformation model. edit_json.h reads and
+// writes it; EditSolver (edit_solver.h) precomputes it.
+#pragma once
+
+#include "freeform/bcm/manipulator.h"
+#include "freeform/bcm/settings.h"
+#include "freeform/mesh/mesh.h"
+#include "freeform/regions/regions.h"
+
+#include <Eigen/Geometry>
+
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace freeform {
+
+// The deformation model EditSolver runs (docs/architecture.md says how to add one).
+enum class Deformation {
+  Linear,  // the paper's BCM: a precomputed basis, every frame one dense product
+};
+std::string_view deformation_name(Deformation d);  // "linear", as in edit files
+
+struct EditHandle {
+  std::vector<Vertex> vertices;
+  bool movable = true;                    // false: immovable, acts like fixed surface (holes)
+  Manipulator manipulator;                // used unless `matrix` is set
+  std::optional<Eigen::Affine3d> matrix;  // a general affine map given as a 4x4 matrix
+};
+
+struct Edit {
+  BcmSettings settings;  // order, boundary smoothness, anisotropic bending
+  std::vector<Vertex> support;
+  std::vector<EditHandle> handles;
+  bool multiresolution = true;  // detail-preserving editing (docs/multires.md); the default
+  Deformation deformation = Deformation::Linear;
+};
+
+int n_movable(const Edit& edit);
+
+// The Regions of an edit: its support and its handles in edit order. Throws InvalidInput as
+// Regions does.
+Regions edit_regions(const Mesh& mesh, const Edit& edit);
+
+}  // namespace freeform

@@ -1,0 +1,99 @@
+#include "freeform/edit/edit_solver.h"
+
+#include "freeform/common/error.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace freeform {
+namespace {
+
+std::vector<Vertex> touched_vertices(const Regions& regions) {
+  std::vector<Vertex> out = regions.free_vertices();
+  for (const HandleRegion& h : regions.handles())
+    if (h.movable) out.insert(out.end(), h.vertices.begin(), h.vertices.end());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace
+
+EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progress)
+    : regions_(edit_regions(mesh, edit)), touched_(touched_vertices(regions_)) {
+  progress.check();
+  stats_.deformation = edit.deformation;
+  switch (edit.deformation) {
+    case Deformation::Linear:
+      if (edit.multiresolution)
+        multires_ = std::make_unique<MultiresSolver>(mesh, regions_, edit.settings, MultiresOptions{}, progress);
+      else
+        bcm_ = std::make_unique<BcmSolver>(mesh, regions_, edit.settings, progress);
+      break;
+  }
+  stats_.bcm = bcm().stats();
+  if (multires_) stats_.multires = multires_->stats();
+}
+
+EditSolver::~EditSolver() = default;
+EditSolver::EditSolver(EditSolver&&) noexcept = default;
+EditSolver& EditSolver::operator=(EditSolver&&) noexcept = default;
+
+const BcmSolver& EditSolver::bcm() const { return multires_ ? multires_->bcm() : *bcm_; }
+
+Vec3 EditSolver::handle_centroid(int movable) const { return bcm().handle_centroid(movable); }
+
+std::vector<Eigen::Affine3d> EditSolver::transforms(const Edit& edit) const {
+  if (freeform::n_movable(edit) != n_movable())
+    throw InvalidInput("the edit has " + std::to_string(freeform::n_movable(edit)) + " movable handles, the solver " +
+                       std::to_string(n_movable()) + ": build the solver from this edit");
+  std::vector<Eigen::Affine3d> out;
+  for (const EditHandle& h : edit.handles) {
+    if (!h.movable) continue;
+    const int m = static_cast<int>(out.size());
+    out.push_back(h.matrix ? *h.matrix : h.manipulator.to_affine(handle_centroid(m)));
+  }
+  return out;
+}
+
+void EditSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
+  if (multires_) {
+    multires_->evaluate(transforms, positions);
+    timings_ = {multires_->last_timings().base_ms, multires_->last_timings().detail_ms};
+    return;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  bcm_->evaluate(transforms, positions);
+  timings_ = {std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(), 0.0};
+}
+
+EditProblems EditSolver::problems(const VertexData<Vec3>& positions) const {
+  if (positions.size() != static_cast<std::size_t>(n_vertices()))
+    throw InvalidInput("problems: positions have " + std::to_string(positions.size()) + " entries, the mesh has " +
+                       std::to_string(n_vertices()) + " vertices");
+  EditProblems p;
+  for (Vertex v : touched_) {
+    if (positions[v].allFinite()) continue;
+    if (p.non_finite++ == 0) p.first_non_finite = v;
+  }
+  if (multires_ && p.non_finite == 0) p.detail = multires_->problems(positions);
+  return p;
+}
+
+void require_finite(const EditProblems& problems) {
+  if (problems.non_finite == 0) return;
+  throw SolverError("the deformed mesh has " + std::to_string(problems.non_finite) +
+                    " non-finite positions (the first at vertex " + std::to_string(problems.first_non_finite.idx()) +
+                    "); try a smaller order or support");
+}
+
+Mesh deform(const Mesh& mesh, const Edit& edit, EditStats* stats) {
+  const EditSolver solver(mesh, edit);
+  Mesh out = mesh;
+  solver.evaluate(solver.transforms(edit), out.positions());
+  require_finite(solver.problems(out.positions()));
+  if (stats) *stats = solver.stats();
+  return out;
+}
+
+}  // namespace freeform

@@ -1,0 +1,92 @@
+// The precomputing object of a whole edit (like geometry-central's HeatMethodDistanceSolver):
+// the constructor does all the sparse work once (regions, the deformation model's
+// factorization and basis, the multiresolution decomposition); evaluate(transforms) is the
+// per-frame call. deform() is the one-shot form. CLI, editor, bindings and benchmarks all go
+// through this class, so a deformation model or option is added here and nowhere else.
+#pragma once
+
+#include "freeform/bcm/bcm_solver.h"
+#include "freeform/common/progress.h"
+#include "freeform/edit/edit.h"
+#include "freeform/mesh/mesh.h"
+#include "freeform/multires/multires_solver.h"
+#include "freeform/regions/regions.h"
+
+#include <Eigen/Geometry>
+
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace freeform {
+
+struct EditStats {
+  Deformation deformation = Deformation::Linear;
+  BcmStats bcm;                            // assembly, factorization, basis, solver, anisotropy
+  std::optional<MultiresStats> multires;   // set with multiresolution
+};
+
+// Wall times of the last evaluate(), in milliseconds.
+struct EditTimings {
+  double evaluate_ms = 0;        // the model's frame (linear: the basis product)
+  double reconstruction_ms = 0;  // multiresolution detail; 0 without it
+};
+
+// What is wrong with a frame (see EditSolver::problems).
+struct EditProblems {
+  int non_finite = 0;                 // touched vertices with a non-finite position
+  Vertex first_non_finite;            // the first of them (invalid if none)
+  MultiresProblems detail;            // flips and overlaps of the detail (multiresolution only)
+  bool ok() const { return non_finite == 0 && detail.ok(); }
+};
+
+class EditSolver {
+ public:
+  // Throws InvalidInput (regions, settings), SolverError (factorization), Cancelled (progress).
+  EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progress = {});
+  ~EditSolver();
+  EditSolver(EditSolver&&) noexcept;
+  EditSolver& operator=(EditSolver&&) noexcept;
+
+  const Regions& regions() const { return regions_; }
+  int n_vertices() const { return regions_.n_vertices(); }
+  int n_movable() const { return regions_.n_movable(); }  // transforms per frame, in handle order
+  Vec3 handle_centroid(int movable) const;                // default pivot of movable handle m
+  // The edit's own transforms (manipulator or matrix per movable handle). Throws InvalidInput
+  // if `edit` has another number of movable handles than this solver.
+  std::vector<Eigen::Affine3d> transforms(const Edit& edit) const;
+  // The vertices a frame can change (free and movable-handle vertices), sorted: everything
+  // else keeps the positions evaluate() was given.
+  const std::vector<Vertex>& touched() const { return touched_; }
+
+  // Writes the touched vertices of `positions` (#V entries; others untouched) for one affine
+  // map per movable handle, applied to the rest positions. No allocation, O(support).
+  // Uses workspace: call from one thread at a time. Throws InvalidInput on a wrong count,
+  // a non-finite transform or a wrong size.
+  void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
+  const EditTimings& last_timings() const { return timings_; }
+  // Non-finite positions and detail problems of `positions` as written by the last evaluate().
+  EditProblems problems(const VertexData<Vec3>& positions) const;
+
+  const EditStats& stats() const { return stats_; }
+  const BcmSolver& bcm() const;                                   // the linear model's solver
+  const MultiresSolver* multires() const { return multires_.get(); }  // null without multires
+
+ private:
+  Regions regions_;
+  std::vector<Vertex> touched_;
+  std::unique_ptr<BcmSolver> bcm_;             // plain linear model
+  std::unique_ptr<MultiresSolver> multires_;   // linear model with detail (owns its BcmSolver)
+  EditStats stats_;
+  mutable EditTimings timings_;
+};
+
+// Throws SolverError naming the first bad vertex if problems.non_finite > 0.
+void require_finite(const EditProblems& problems);
+
+// Applies the edit to a copy of the mesh (vertex order and faces kept): EditSolver + one
+// evaluate with the edit's own transforms. Throws SolverError on a non-finite result.
+Mesh deform(const Mesh& mesh, const Edit& edit, EditStats* stats = nullptr);
+
+}  // namespace freeform
