@@ -9,7 +9,7 @@
 // subdivisions (416k vertices). Support: the first N + H vertices of a breadth-first order
 // from a seed; handle: the first H of them (H = max(50, N / 50)); free = N.
 #include "bench_meshes.h"
-#include "freeform/bcm/bcm_solver.h"
+#include "freeform/edit/edit_solver.h"
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/mesh.h"
 #include "freeform/mesh/traversal.h"
@@ -98,8 +98,19 @@ double peak_rss_mb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
-std::map<std::tuple<int, int, bool>, std::unique_ptr<BcmSolver>>& solver_cache() {
-  static std::map<std::tuple<int, int, bool>, std::unique_ptr<BcmSolver>> cache;
+// The benchmark's edit: plain BCM (multiresolution off) on region(free_count).
+Edit edit_for(int free_count, int k, bool blended) {
+  const Region r = region(free_count);
+  Edit e;
+  e.settings = settings_for(k, blended);
+  e.multiresolution = false;
+  e.support = r.support;
+  e.handles.push_back(EditHandle{r.handle, true, {}, {}});
+  return e;
+}
+
+std::map<std::tuple<int, int, bool>, std::unique_ptr<EditSolver>>& solver_cache() {
+  static std::map<std::tuple<int, int, bool>, std::unique_ptr<EditSolver>> cache;
   return cache;
 }
 
@@ -109,14 +120,12 @@ void BM_BcmPrecompute(benchmark::State& state) {
   const int k = static_cast<int>(state.range(1));
   const bool blended = state.range(2) != 0;
   const BenchMesh& m = bench_mesh();
-  const Region r = region(free_count);
-  const Regions regions(m.mesh, r.support, {HandleRegion{r.handle, true}});
-  const BcmSettings settings = settings_for(k, blended);
+  const Edit edit = edit_for(free_count, k, blended);
   BcmStats stats;
   for (auto _ : state) {
-    auto solver = std::make_unique<BcmSolver>(m.mesh, regions, settings);
-    stats = solver->stats();
-    // Kept for BM_BcmEvaluate: a BcmSolver holds only the dense basis (7 doubles per free vertex).
+    auto solver = std::make_unique<EditSolver>(m.mesh, edit);
+    stats = solver->stats().bcm;
+    // Kept for BM_BcmEvaluate: the solver holds only the dense basis (7 doubles per free vertex).
     solver_cache()[{free_count, k, blended}] = std::move(solver);
   }
   state.counters["free"] = stats.free;
@@ -136,14 +145,11 @@ void BM_BcmEvaluate(benchmark::State& state) {
   auto& cache = solver_cache();
   auto it = cache.find({free_count, k, blended});
   if (it == cache.end()) {
-    const BenchMesh& m = bench_mesh();
-    const Region r = region(free_count);
-    const Regions regions(m.mesh, r.support, {HandleRegion{r.handle, true}});
     it = cache.emplace(std::make_tuple(free_count, k, blended),
-                       std::make_unique<BcmSolver>(m.mesh, regions, settings_for(k, blended))).first;
+                       std::make_unique<EditSolver>(bench_mesh().mesh, edit_for(free_count, k, blended))).first;
   }
-  const BcmSolver& solver = *it->second;
-  BcmSolver::RowMatrixX3d out(solver.n_free(), 3);
+  const EditSolver& solver = *it->second;
+  VertexData<Vec3> out = bench_mesh().mesh.positions();
   const Vec3 pivot = solver.handle_centroid(0);
   int frame = 0;
   for (auto _ : state) {
@@ -151,10 +157,10 @@ void BM_BcmEvaluate(benchmark::State& state) {
     const Eigen::Affine3d t = Eigen::Translation3d(pivot + Vec3(0, 0, angle)) *
                               Eigen::AngleAxisd(angle, Vec3::UnitX()) * Eigen::Translation3d(-pivot);
     solver.evaluate(std::span<const Eigen::Affine3d>(&t, 1), out);
-    benchmark::DoNotOptimize(out.data());
+    benchmark::DoNotOptimize(out.raw().data());
     benchmark::ClobberMemory();
   }
-  state.counters["free"] = solver.n_free();
+  state.counters["free"] = solver.regions().n_free();
 }
 
 // Precompute: every k at the small and middle sizes (3 repetitions up to 35k, 1 beyond), k = 3

@@ -7,7 +7,7 @@
 // chosen for about 35k and 300k free vertices. Decomposition is reported as a counter
 // (decomposition_ms) of the construction; the timed loop is evaluate() with a moved handle.
 #include "freeform/mesh/generators.h"
-#include "freeform/multires/multires_solver.h"
+#include "freeform/edit/edit_solver.h"
 
 #include <benchmark/benchmark.h>
 
@@ -20,8 +20,7 @@ using namespace freeform;
 
 struct Setup {
   Mesh mesh;
-  std::unique_ptr<Regions> regions;
-  std::unique_ptr<MultiresSolver> solver;
+  std::unique_ptr<EditSolver> solver;
 };
 
 Setup& setup(int n) {
@@ -30,15 +29,14 @@ Setup& setup(int n) {
   if (!s) {
     s = std::make_unique<Setup>();
     s->mesh = Mesh::from_soup(make_bumpy_plane(n, n, 0.01, 12));
-    std::vector<Vertex> support;
-    HandleRegion handle;
+    Edit edit;  // multiresolution is the default
+    edit.handles.emplace_back();
     for (Vertex v : s->mesh.vertices()) {
       const double x = s->mesh.position(v).x();
-      if (x >= 0.1 && x <= 0.9) support.push_back(v);
-      if (x >= 0.45 && x <= 0.55) handle.vertices.push_back(v);
+      if (x >= 0.1 && x <= 0.9) edit.support.push_back(v);
+      if (x >= 0.45 && x <= 0.55) edit.handles[0].vertices.push_back(v);
     }
-    s->regions = std::make_unique<Regions>(s->mesh, support, std::vector<HandleRegion>{handle});
-    s->solver = std::make_unique<MultiresSolver>(s->mesh, *s->regions, BcmSettings{});
+    s->solver = std::make_unique<EditSolver>(s->mesh, edit);
   }
   return *s;
 }
@@ -54,8 +52,8 @@ void BM_MultiresReconstruct(benchmark::State& state) {
     s.solver->evaluate(transforms, positions);
     benchmark::DoNotOptimize(positions.raw().data());
   }
-  const MultiresStats& st = s.solver->stats();
-  const MultiresProblems pr = s.solver->problems(positions);
+  const MultiresStats& st = *s.solver->stats().multires;
+  const MultiresProblems pr = s.solver->problems(positions).detail;
   state.counters["free"] = st.free;
   state.counters["decomposition_ms"] = st.decomposition_ms;
   state.counters["bcm_precompute_ms"] =

@@ -1,8 +1,7 @@
 // Example: the library's two-tier API on a generated plane. Lifts a small central handle of a
-// round support with a precomputed BcmSolver and writes the result. Usage: bump_plane OUT.off
-#include "freeform/bcm/bcm_solver.h"
-#include "freeform/bcm/manipulator.h"
+// round support with a precomputed EditSolver and writes the result. Usage: bump_plane OUT.off
 #include "freeform/common/error.h"
+#include "freeform/edit/edit_solver.h"
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/generators.h"
 
@@ -16,16 +15,15 @@ int main(int argc, char** argv) {
   }
   try {
     const Mesh mesh = Mesh::from_soup(make_plane(40, 40));
-    std::vector<Vertex> support, handle;
+    Edit edit;
+    edit.settings.order = 3;
+    edit.handles.emplace_back();
     for (Vertex v : mesh.vertices()) {
       const double r = (mesh.position(v) - Vec3(0.5, 0.5, 0)).norm();
-      if (r < 0.4) support.push_back(v);
-      if (r < 0.05) handle.push_back(v);
+      if (r < 0.4) edit.support.push_back(v);
+      if (r < 0.05) edit.handles[0].vertices.push_back(v);
     }
-    const Regions regions(mesh, support, {HandleRegion{handle, true}});
-    BcmSettings settings;
-    settings.order = 3;
-    const BcmSolver solver(mesh, regions, settings);  // all sparse work happens here, once
+    const EditSolver solver(mesh, edit);  // all sparse work happens here, once
 
     VertexData<Vec3> positions = mesh.positions();
     for (int frame = 1; frame <= 10; ++frame) {  // what an editor does while the user drags
@@ -37,8 +35,9 @@ int main(int argc, char** argv) {
     TriangleSoup out = mesh.to_soup();
     out.positions = positions.raw();
     write_mesh(argv[1], out);
-    std::printf("%d free vertices, solver %s, precompute %.1f ms\n", solver.n_free(), solver.stats().solver.c_str(),
-                solver.stats().assembly_ms + solver.stats().factorization_ms + solver.stats().basis_ms);
+    const BcmStats& st = solver.stats().bcm;
+    std::printf("%d free vertices, solver %s, precompute %.1f ms\n", st.free, st.solver.c_str(),
+                st.assembly_ms + st.factorization_ms + st.basis_ms);
   } catch (const Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;
