@@ -4,13 +4,13 @@
 #include "commands.h"
 
 #include "freeform/edit/edit_json.h"
+#include "freeform/edit/edit_report.h"
 #include "freeform/edit/edit_solver.h"
 #include "freeform/io/file_util.h"
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/mesh.h"
 
 #include <fmt/core.h>
-#include <nlohmann/json.hpp>
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -82,47 +82,17 @@ void run(const DeformOptions& opt) {
   TriangleSoup soup = std::move(read.soup);
   for (std::size_t i = 0; i < soup.positions.size(); ++i) soup.positions[i] = positions[Vertex(static_cast<int>(i))];
 
-  const Regions& regions = solver.regions();
-  const BcmStats& st = solver.stats().bcm;
-  const std::optional<MultiresStats>& ms = solver.stats().multires;
-  const int k = edit.settings.order;
-  nlohmann::json handles = nlohmann::json::array();
-  for (const HandleRegion& h : regions.handles())
-    handles.push_back({{"vertices", h.vertices.size()}, {"movable", h.movable}});
-  const nlohmann::json report = {
+  Json report = {
       {"input", opt.in},
       {"output", opt.out},
-      {"edit", opt.edit.empty() ? nlohmann::json({{"sel", opt.sel}, {"def", opt.def}}) : nlohmann::json(opt.edit)},
+      {"edit", opt.edit.empty() ? Json({{"sel", opt.sel}, {"def", opt.def}}) : Json(opt.edit)},
       {"vertices", mesh.n_vertices()},
       {"faces", mesh.n_faces()},
-      {"deformation", deformation_name(solver.stats().deformation)},
-      {"order", k},
-      {"smoothness", {{"outer", resolved_outer(edit.settings)}, {"inner", resolved_inner(edit.settings)}}},
-      {"counts", {{"free", regions.n_free()}, {"fixed", regions.n_fixed()}, {"constrained_in_system", st.constrained}, {"handles", handles}}},
-      {"solver", st.solver},
-      {"symmetric", st.symmetric},
-      {"timings_ms",
-       {{"assembly", st.assembly_ms}, {"factorization", st.factorization_ms}, {"basis", st.basis_ms}, {"evaluate", evaluate_ms}}},
-      {"evaluate_repeats", kEvaluateRepeats},
-      {"residual", st.residual},
-      {"anisotropic",
-       {{"requested", edit.settings.anisotropic},
-        {"used", st.anisotropic},
-        {"principal_extents", {st.principal_extents[0], st.principal_extents[1]}},
-        {"fallback", st.anisotropic_fallback.empty() ? nlohmann::json(nullptr) : nlohmann::json(st.anisotropic_fallback)},
-        {"parametrization_ms", st.parametrization_ms}}},
-      {"multiresolution",
-       ms ? nlohmann::json({{"decomposition_ms", ms->decomposition_ms},
-                            {"reconstruct_ms", reconstruct_ms},
-                            {"reconstruct_repeats", kEvaluateRepeats},
-                            {"normal_encoded", ms->normal_encoded},
-                            {"fallback", ms->fallback},
-                            {"max_height", ms->max_height},
-                            {"flipped_triangles", problems.detail.flipped},
-                            {"overlaps", problems.detail.overlaps}})
-          : nlohmann::json(nullptr)},
-      {"peak_memory_mb", peak_memory_mb()},
   };
+  report.update(edit_report(solver, {evaluate_ms, reconstruct_ms}, problems));
+  report["evaluate_repeats"] = kEvaluateRepeats;
+  if (!report["multiresolution"].is_null()) report["multiresolution"]["reconstruct_repeats"] = kEvaluateRepeats;
+  report["peak_memory_mb"] = peak_memory_mb();
 
   try {
     write_mesh(opt.out, soup, wo);
@@ -138,8 +108,11 @@ void run(const DeformOptions& opt) {
       throw OutputError("report not written (and " + opt.out + " removed): " + e.what());
     }
   }
+  const Regions& regions = solver.regions();
+  const BcmStats& st = solver.stats().bcm;
+  const std::optional<MultiresStats>& ms = solver.stats().multires;
   fmt::print("wrote {} ({} vertices, {} faces): order {}, {} free, {} fixed, {} handles; solver {}, evaluate {:.3f} ms\n",
-             opt.out, soup.positions.size(), soup.faces.size(), k, regions.n_free(), regions.n_fixed(),
+             opt.out, soup.positions.size(), soup.faces.size(), edit.settings.order, regions.n_free(), regions.n_fixed(),
              regions.handles().size(), st.solver, evaluate_ms);
   if (st.anisotropic)
     fmt::print("anisotropic bending: principal extents {:.4g} x {:.4g} equalized (parametrization {:.1f} ms)\n",

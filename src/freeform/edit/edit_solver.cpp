@@ -20,7 +20,7 @@ std::vector<Vertex> touched_vertices(const Regions& regions) {
 }  // namespace
 
 EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progress)
-    : regions_(edit_regions(mesh, edit)), touched_(touched_vertices(regions_)) {
+    : regions_(edit_regions(mesh, edit)), settings_(edit.settings), touched_(touched_vertices(regions_)) {
   progress.check();
   stats_.deformation = edit.deformation;
   switch (edit.deformation) {

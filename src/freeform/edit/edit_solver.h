@@ -50,6 +50,7 @@ class EditSolver {
   EditSolver& operator=(EditSolver&&) noexcept;
 
   const Regions& regions() const { return regions_; }
+  const BcmSettings& settings() const { return settings_; }  // the edit's
   int n_vertices() const { return regions_.n_vertices(); }
   int n_movable() const { return regions_.n_movable(); }  // transforms per frame, in handle order
   Vec3 handle_centroid(int movable) const;                // default pivot of movable handle m
@@ -75,6 +76,7 @@ class EditSolver {
 
  private:
   Regions regions_;
+  BcmSettings settings_;
   std::vector<Vertex> touched_;
   std::unique_ptr<BcmSolver> bcm_;             // plain linear model
   std::unique_ptr<MultiresSolver> multires_;   // linear model with detail (owns its BcmSolver)

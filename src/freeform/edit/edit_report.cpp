@@ -1,0 +1,42 @@
+#include "freeform/edit/edit_report.h"
+
+namespace freeform {
+
+Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditProblems& problems) {
+  const Regions& regions = solver.regions();
+  const BcmSettings& settings = solver.settings();
+  const BcmStats& st = solver.stats().bcm;
+  const std::optional<MultiresStats>& ms = solver.stats().multires;
+  Json handles = Json::array();
+  for (const HandleRegion& h : regions.handles()) handles.push_back({{"vertices", h.vertices.size()}, {"movable", h.movable}});
+  Json multires = nullptr;
+  if (ms)
+    multires = {{"decomposition_ms", ms->decomposition_ms},
+                {"reconstruct_ms", frame.reconstruction_ms},
+                {"normal_encoded", ms->normal_encoded},
+                {"fallback", ms->fallback},
+                {"max_height", ms->max_height},
+                {"flipped_triangles", problems.detail.flipped},
+                {"overlaps", problems.detail.overlaps}};
+  return {
+      {"deformation", deformation_name(solver.stats().deformation)},
+      {"order", settings.order},
+      {"smoothness", {{"outer", resolved_outer(settings)}, {"inner", resolved_inner(settings)}}},
+      {"counts",
+       {{"free", regions.n_free()}, {"fixed", regions.n_fixed()}, {"constrained_in_system", st.constrained}, {"handles", handles}}},
+      {"solver", st.solver},
+      {"symmetric", st.symmetric},
+      {"timings_ms",
+       {{"assembly", st.assembly_ms}, {"factorization", st.factorization_ms}, {"basis", st.basis_ms}, {"evaluate", frame.evaluate_ms}}},
+      {"residual", st.residual},
+      {"anisotropic",
+       {{"requested", settings.anisotropic},
+        {"used", st.anisotropic},
+        {"principal_extents", {st.principal_extents[0], st.principal_extents[1]}},
+        {"fallback", st.anisotropic_fallback.empty() ? Json(nullptr) : Json(st.anisotropic_fallback)},
+        {"parametrization_ms", st.parametrization_ms}}},
+      {"multiresolution", std::move(multires)},
+  };
+}
+
+}  // namespace freeform

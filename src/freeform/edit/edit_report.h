@@ -1,0 +1,18 @@
+// The report of a precomputed edit and one of its frames: the keys `freeform deform --report`
+// writes (docs/cli.md) and the Python module's solver.stats, built in one place.
+#pragma once
+
+#include "freeform/common/json_reader.h"
+#include "freeform/edit/edit_solver.h"
+
+namespace freeform {
+
+// deformation, order, smoothness {outer, inner}, counts {free, fixed, constrained_in_system,
+// handles [{vertices, movable}]}, solver, symmetric, timings_ms {assembly, factorization,
+// basis, evaluate}, residual, anisotropic {requested, used, principal_extents, fallback,
+// parametrization_ms}, multiresolution (null without it; else decomposition_ms,
+// reconstruct_ms, normal_encoded, fallback, max_height, flipped_triangles, overlaps).
+// `frame` gives the per-frame times, `problems` the frame's detail problems.
+Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditProblems& problems);
+
+}  // namespace freeform
