@@ -119,12 +119,20 @@ void run(const DeformOptions& opt) {
                st.principal_extents[0], st.principal_extents[1], st.parametrization_ms);
   else if (!st.anisotropic_fallback.empty())
     fmt::print(stderr, "warning: anisotropic bending fell back to the isotropic operator: {}\n", st.anisotropic_fallback);
+  if (problems.folded_edges > 0)
+    fmt::print(stderr, "warning: {} folded edges (dihedral angle grew by more than {:g} degrees)\n", problems.folded_edges,
+               kFoldDegrees);
   if (ms) {
     fmt::print("multiresolution: decomposition {:.1f} ms, reconstruct {:.3f} ms; {} normal-encoded, {} fallback vertices\n",
                ms->decomposition_ms, reconstruct_ms, ms->normal_encoded, ms->fallback);
-    if (!problems.detail.ok())
-      fmt::print(stderr, "warning: the bend is too tight for the detail: {} flipped triangles, {} overlapping vertices\n",
-                 problems.detail.flipped, problems.detail.overlaps);
+    if (problems.detail.overlaps > 0)
+      fmt::print(stderr,
+                 "warning: the bend is tighter than the detail is tall at {} vertices: their detail was flattened there "
+                 "to keep it from folding over\n",
+                 problems.detail.overlaps);
+    if (problems.detail.flipped > 0)
+      fmt::print(stderr, "warning: {} detail triangles flipped against their base\n", problems.detail.flipped);
+    if (!ms->smooth_operator) fmt::print("multiresolution: {}\n", ms->operator_fallback);
   }
   if (!opt.report.empty()) fmt::print("wrote {}\n", opt.report);
 }

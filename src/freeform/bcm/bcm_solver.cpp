@@ -41,7 +41,7 @@ void kernel(int n, int n4_dynamic, const double* __restrict b, const double* __r
 }  // namespace
 
 BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
-                     const Progress& progress)
+                     const Progress& progress, const VertexData<Vec3>* operator_positions)
     : n_vertices_(mesh.n_vertices()) {
   progress.step("assembly", 0.0);
   // Anisotropic bending: the operator's cotangents and areas come from the equalized
@@ -58,7 +58,8 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
     stats_.parametrization_ms = domain.ms;
   }
   auto t = Clock::now();
-  BcmSystem sys = assemble_bcm_system(mesh, domain.used ? domain.positions : mesh.positions(), regions, settings);
+  BcmSystem sys = assemble_bcm_system(
+      mesh, domain.used ? domain.positions : operator_positions ? *operator_positions : mesh.positions(), regions, settings);
   stats_.assembly_ms = ms_since(t);
   stats_.symmetric = sys.symmetric;
   stats_.free = static_cast<int>(sys.free.size());

@@ -45,7 +45,11 @@ class BcmSolver {
 
   // Throws InvalidInput / SolverError with a message that says what to fix, Cancelled when
   // progress.cancel is set (checked between the stages; reports fractions up to 0.9).
-  BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, const Progress& progress = {});
+  // `operator_positions` (default: the mesh's): the shape the operator's cotangents and areas
+  // come from; constraints and frames always use the mesh's positions. Multiresolution passes
+  // its smooth base here, so the detail's metric does not steer the bend (docs/multires.md).
+  BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, const Progress& progress = {},
+            const VertexData<Vec3>* operator_positions = nullptr);
 
   int n_free() const;
   int n_movable() const;  // number of transforms evaluate() expects, in handle order

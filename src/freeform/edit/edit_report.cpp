@@ -12,6 +12,9 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
   Json multires = nullptr;
   if (ms)
     multires = {{"decomposition_ms", ms->decomposition_ms},
+                {"smooth_operator", ms->smooth_operator},
+                {"operator_fallback", ms->smooth_operator ? Json(nullptr) : Json(ms->operator_fallback)},
+                {"operator_shape_ms", ms->operator_shape_ms},
                 {"reconstruct_ms", frame.reconstruction_ms},
                 {"normal_encoded", ms->normal_encoded},
                 {"fallback", ms->fallback},
@@ -29,6 +32,7 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
       {"timings_ms",
        {{"assembly", st.assembly_ms}, {"factorization", st.factorization_ms}, {"basis", st.basis_ms}, {"evaluate", frame.evaluate_ms}}},
       {"residual", st.residual},
+      {"folded_edges", problems.folded_edges},
       {"anisotropic",
        {{"requested", settings.anisotropic},
         {"used", st.anisotropic},

@@ -9,9 +9,9 @@ namespace freeform {
 
 // deformation, order, smoothness {outer, inner}, counts {free, fixed, constrained_in_system,
 // handles [{vertices, movable}]}, solver, symmetric, timings_ms {assembly, factorization,
-// basis, evaluate}, residual, anisotropic {requested, used, principal_extents, fallback,
+// basis, evaluate}, residual, folded_edges (mesh/folds.h), anisotropic {requested, used, principal_extents, fallback,
 // parametrization_ms}, multiresolution (null without it; else decomposition_ms,
-// reconstruct_ms, normal_encoded, fallback, max_height, flipped_triangles, overlaps).
+// smooth_operator, operator_fallback, operator_shape_ms, reconstruct_ms, normal_encoded, fallback, max_height, flipped_triangles, overlaps).
 // `frame` gives the per-frame times, `problems` the frame's detail problems.
 Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditProblems& problems);
 

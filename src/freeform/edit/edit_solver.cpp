@@ -20,7 +20,10 @@ std::vector<Vertex> touched_vertices(const Regions& regions) {
 }  // namespace
 
 EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progress)
-    : regions_(edit_regions(mesh, edit)), settings_(edit.settings), touched_(touched_vertices(regions_)) {
+    : regions_(edit_regions(mesh, edit)),
+      settings_(edit.settings),
+      touched_(touched_vertices(regions_)),
+      folds_(mesh, mesh.positions(), touched_) {
   progress.check();
   stats_.deformation = edit.deformation;
   switch (edit.deformation) {
@@ -76,7 +79,9 @@ EditProblems EditSolver::problems(const VertexData<Vec3>& positions) const {
     if (positions[v].allFinite()) continue;
     if (p.non_finite++ == 0) p.first_non_finite = v;
   }
-  if (multires_ && p.non_finite == 0) p.detail = multires_->problems(positions);
+  if (p.non_finite > 0) return p;
+  p.folded_edges = folds_.count(positions);
+  if (multires_) p.detail = multires_->problems(positions);
   return p;
 }
 

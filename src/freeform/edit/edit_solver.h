@@ -7,6 +7,7 @@
 
 #include "freeform/bcm/bcm_solver.h"
 #include "freeform/common/progress.h"
+#include "freeform/mesh/folds.h"
 #include "freeform/edit/edit.h"
 #include "freeform/mesh/mesh.h"
 #include "freeform/multires/multires_solver.h"
@@ -37,8 +38,9 @@ struct EditTimings {
 struct EditProblems {
   int non_finite = 0;                 // touched vertices with a non-finite position
   Vertex first_non_finite;            // the first of them (invalid if none)
+  int folded_edges = 0;               // dihedral angle grew by more than kFoldDegrees (mesh/folds.h)
   MultiresProblems detail;            // flips and overlaps of the detail (multiresolution only)
-  bool ok() const { return non_finite == 0 && detail.ok(); }
+  bool ok() const { return non_finite == 0 && folded_edges == 0 && detail.ok(); }
 };
 
 class EditSolver {
@@ -67,7 +69,8 @@ class EditSolver {
   // a non-finite transform or a wrong size.
   void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
   const EditTimings& last_timings() const { return timings_; }
-  // Non-finite positions and detail problems of `positions` as written by the last evaluate().
+  // Non-finite positions, folded edges and detail problems of `positions` as written by the
+  // last evaluate(). O(support).
   EditProblems problems(const VertexData<Vec3>& positions) const;
 
   const EditStats& stats() const { return stats_; }
@@ -78,6 +81,7 @@ class EditSolver {
   Regions regions_;
   BcmSettings settings_;
   std::vector<Vertex> touched_;
+  FoldCounter folds_;
   std::unique_ptr<BcmSolver> bcm_;             // plain linear model
   std::unique_ptr<MultiresSolver> multires_;   // linear model with detail (owns its BcmSolver)
   EditStats stats_;

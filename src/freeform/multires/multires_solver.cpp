@@ -5,6 +5,7 @@
 #include "freeform/common/error.h"
 #include "freeform/mesh/traversal.h"
 #include "freeform/multires/normal_displacement.h"
+#include "freeform/multires/operator_shape.h"
 
 #include <algorithm>
 #include <chrono>
@@ -21,6 +22,8 @@ double ms_since(Clock::time_point t) { return std::chrono::duration<double, std:
 constexpr int kParallelRows = 4096;
 // Steps of the descent to the base vertex nearest to a detail point.
 constexpr int kMaxDescent = 64;
+// Detail is flattened where det of its offset map falls below this fraction of its rest value.
+constexpr double kFlattenFraction = 0.05;
 // A detail triangle is checked for flips if |cos(detail normal, base normal)| > this at rest.
 constexpr double kFacingCosine = 0.2;
 
@@ -37,7 +40,16 @@ void validate_options(const MultiresOptions& o) {
 
 MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                                const MultiresOptions& options, const Progress& progress)
-    : bcm_((validate_options(options), mesh), regions, settings, progress), n_vertices_(mesh.n_vertices()) {
+    : MultiresSolver(mesh, regions, settings, (validate_options(options), options), progress,
+                     base_operator_shape(mesh, regions, settings, progress)) {}
+
+MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
+                               const MultiresOptions& options, const Progress& progress, const OperatorShape& shape)
+    : bcm_(mesh, regions, settings, progress, shape.positions.size() > 0 ? &shape.positions : nullptr),
+      n_vertices_(mesh.n_vertices()) {
+  stats_.smooth_operator = shape.positions.size() > 0;
+  stats_.operator_fallback = shape.fallback;
+  stats_.operator_shape_ms = shape.ms;
   progress.step("detail", 0.9);
   const auto t0 = Clock::now();
   const std::vector<Vertex>& free = bcm_.free_vertices();
@@ -173,6 +185,11 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
           code.w = {best.u, best.v, best.w};
           code.h = best.h;
           code.rest_sign = best.det > 0 ? 1 : (best.det < 0 ? -1 : 0);
+          const auto& fc = code.corner;
+          const multires::JacobianRay ray = multires::offset_jacobian_ray(
+              Map3(B + 3 * fc[0]), Map3(B + 3 * fc[1]), Map3(B + 3 * fc[2]), Map3(N + 3 * fc[0]), Map3(N + 3 * fc[1]),
+              Map3(N + 3 * fc[2]), best.u, best.v, best.w);
+          if (code.rest_sign > 0 && ray.a0 > 0.0) code.min_ratio = kFlattenFraction * ray.at(best.h) / ray.a0;
         }
       }
       if (!found) {
@@ -300,15 +317,22 @@ void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, Verte
   const int* glob = local_global_.data();
   Vec3* out = positions.raw().data();
   const int n = n_free_;
-#pragma omp parallel for schedule(static) if (n > kParallelRows)
+  int flattened = 0;
+#pragma omp parallel for schedule(static) reduction(+ : flattened) if (n > kParallelRows)
   for (int i = 0; i < n; ++i) {
     const Code& c = codes[i];
     const Vec3 pa = Map3(b + 3 * c.corner[0]);
     Vec3 x;
     if (c.corner[2] >= 0) {
       const Vec3 pb = Map3(b + 3 * c.corner[1]), pc = Map3(b + 3 * c.corner[2]);
-      x = c.w[0] * (pa + c.h * Map3(nn + 3 * c.corner[0])) + c.w[1] * (pb + c.h * Map3(nn + 3 * c.corner[1])) +
-          c.w[2] * (pc + c.h * Map3(nn + 3 * c.corner[2]));
+      const Vec3 na = Map3(nn + 3 * c.corner[0]), nb = Map3(nn + 3 * c.corner[1]), nc = Map3(nn + 3 * c.corner[2]);
+      double h = c.h;
+      if (c.min_ratio > -std::numeric_limits<double>::infinity()) {
+        h = multires::safe_height(multires::offset_jacobian_ray(pa, pb, pc, na, nb, nc, c.w[0], c.w[1], c.w[2]), c.h,
+                                  c.min_ratio);
+        flattened += h != c.h ? 1 : 0;
+      }
+      x = c.w[0] * (pa + h * na) + c.w[1] * (pb + h * nb) + c.w[2] * (pc + h * nc);
     } else if (c.corner[1] >= 0) {
       const Vec3 nrm = Map3(nn + 3 * c.corner[0]);
       Vec3 e = Map3(b + 3 * c.corner[1]) - pa;
@@ -322,6 +346,7 @@ void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, Verte
     out[glob[i]] = x;
   }
   for (int l = n_free_; l < n_moving_; ++l) out[glob[l]] = Map3(b + 3 * l);
+  flattened_ = flattened;
   timings_.base_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
   timings_.detail_ms = ms_since(t1);
 }
@@ -330,11 +355,9 @@ MultiresProblems MultiresSolver::problems(const VertexData<Vec3>& positions) con
   if (positions.size() != static_cast<std::size_t>(n_vertices_))
     throw InvalidInput("multiresolution problems: positions have " + std::to_string(positions.size()) +
                        " entries, the mesh has " + std::to_string(n_vertices_) + " vertices");
-  const double* b = base_.data();
-  const double* nn = normal_.data();
   const double* fn = fnormal_.data();
   const Vec3* p = positions.raw().data();
-  int flipped = 0, overlaps = 0;
+  int flipped = 0;
   const int nd = static_cast<int>(detail_faces_.size());
 #pragma omp parallel for schedule(static) reduction(+ : flipped) if (nd > kParallelRows)
   for (int k = 0; k < nd; ++k) {
@@ -344,17 +367,7 @@ MultiresProblems MultiresSolver::problems(const VertexData<Vec3>& positions) con
     const double d = (p1 - p0).cross(p2 - p0).dot(Map3(fn + 3 * detail_faces_[static_cast<std::size_t>(k)]));
     if (detail_rest_sign_[static_cast<std::size_t>(k)] > 0 && !(d > 0)) ++flipped;
   }
-  const int n = n_free_;
-#pragma omp parallel for schedule(static) reduction(+ : overlaps) if (n > kParallelRows)
-  for (int i = 0; i < n; ++i) {
-    const Code& c = codes_[static_cast<std::size_t>(i)];
-    if (c.corner[2] < 0 || c.rest_sign <= 0) continue;
-    const double det = multires::offset_jacobian_det(
-        Map3(b + 3 * c.corner[0]), Map3(b + 3 * c.corner[1]), Map3(b + 3 * c.corner[2]), Map3(nn + 3 * c.corner[0]),
-        Map3(nn + 3 * c.corner[1]), Map3(nn + 3 * c.corner[2]), c.w[0], c.w[1], c.w[2], c.h);
-    if (!(det > 0)) ++overlaps;
-  }
-  return {flipped, overlaps};
+  return {flipped, flattened_};
 }
 
 void MultiresSolver::base_positions(VertexData<Vec3>& positions) const {

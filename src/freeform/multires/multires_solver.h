@@ -17,6 +17,7 @@
 #include "freeform/bcm/settings.h"
 #include "freeform/common/progress.h"
 #include "freeform/mesh/mesh.h"
+#include "freeform/multires/operator_shape.h"
 #include "freeform/regions/regions.h"
 
 #include <Eigen/Core>
@@ -24,6 +25,8 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
+#include <string>
 #include <span>
 #include <vector>
 
@@ -45,12 +48,20 @@ struct MultiresStats {
   int fallback = 0;             // vertices with the local-frame fallback
   double max_height = 0;        // max |h| of the normal displacements (mesh units)
   int rest_folded = 0;          // encodings already folded at rest (det of the offset map <= 0)
+  // The base's operator (operator_shape.h): on the smooth foot-point shape, or (false) on the
+  // detailed mesh with the reason; the foot-point shape's wall time (a k = 1 factorization).
+  bool smooth_operator = false;
+  std::string operator_fallback;
+  double operator_shape_ms = 0;
 };
 
 // Found after a reconstruction (see problems()).
 struct MultiresProblems {
   int flipped = 0;   // support triangles facing along the base at rest (cos > 0.2) that now face against it
-  int overlaps = 0;  // free vertices whose offset map folded over (base bent tighter than |h|)
+  // Free vertices whose detail the frame flattened: the base is bent tighter than their height
+  // there (a focal point of the offset surface), so h was lowered just enough to keep the
+  // offset map from folding over (multires::safe_height) instead of tearing.
+  int overlaps = 0;
   bool ok() const { return flipped == 0 && overlaps == 0; }
 };
 
@@ -99,7 +110,13 @@ class MultiresSolver {
     std::array<double, 3> w;    // barycentrics; fallback: coordinates in the frame
     double h = 0;               // height (normal encoding)
     std::int8_t rest_sign = 0;  // sign of det(offset map Jacobian) at rest (normal encoding)
+    // det / a0 along the height ray may not fall below this (multires::safe_height): a fixed
+    // fraction of its rest value, so the rest never flattens; -inf: never flattened.
+    double min_ratio = -std::numeric_limits<double>::infinity();
   };
+
+  MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, const MultiresOptions& options,
+                 const Progress& progress, const OperatorShape& shape);
 
   BcmSolver bcm_;
   MultiresStats stats_;
@@ -123,6 +140,7 @@ class MultiresSolver {
   mutable RowMatrixX3d fnormal_;  // per local face (area weighted)
   mutable RowMatrixX3d normal_;   // per local vertex (unit; rows of other vertices unused)
   mutable MultiresTimings timings_;
+  mutable int flattened_ = 0;  // vertices whose detail the last evaluate() flattened
 
   void update_base(std::span<const Eigen::Affine3d> transforms) const;
   void update_normals() const;

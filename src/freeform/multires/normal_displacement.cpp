@@ -120,4 +120,18 @@ NormalFit fit_normal_displacement(const Vec3& x, const Vec3& a, const Vec3& b, c
   return best;
 }
 
+double safe_height(const JacobianRay& j, double h, double min_ratio) {
+  if (!(j.a0 > 0.0)) return 0.0;
+  const double floor = min_ratio * j.a0;
+  if (j.at(h) >= floor) return h;
+  // f(s) = det(s) - floor: f(0) > 0 >= f(h). Bisection on [0, h]: robust where the quadratic is
+  // nearly linear, and 40 halvings reach rounding level of h.
+  double lo = 0.0, hi = h;
+  for (int i = 0; i < 40; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (j.at(mid) >= floor ? lo : hi) = mid;
+  }
+  return lo;
+}
+
 }  // namespace freeform::multires

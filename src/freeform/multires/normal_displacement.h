@@ -35,4 +35,24 @@ inline double offset_jacobian_det(const Vec3& a, const Vec3& b, const Vec3& c, c
   return e1.cross(e2).dot(n);
 }
 
+// The same determinant along the ray s -> (u, v, s): det(s) = a0 + a1 s + a2 s^2, where a0 is
+// the base triangle's own orientation. Where the base bends tighter than |h| (a focal point of
+// the offset surface), det changes sign between 0 and h.
+struct JacobianRay {
+  double a0 = 0, a1 = 0, a2 = 0;
+  double at(double s) const { return a0 + s * (a1 + s * a2); }
+};
+inline JacobianRay offset_jacobian_ray(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& na, const Vec3& nb,
+                                       const Vec3& nc, double u, double v, double w) {
+  const Vec3 n = u * na + v * nb + w * nc;
+  const Vec3 e1 = a - c, e2 = b - c, d1 = na - nc, d2 = nb - nc;
+  return {e1.cross(e2).dot(n), (e1.cross(d2) + d1.cross(e2)).dot(n), d1.cross(d2).dot(n)};
+}
+
+// The height to rebuild with so that det keeps at least `min_ratio` * a0 (graceful degradation
+// at a focal point): h itself where it does, else the first s between 0 and h with
+// det(s) = min_ratio * a0 (the detail is flattened just enough), 0 if the base triangle itself
+// is inverted (a0 <= 0). Continuous in the base, so a bend that tightens flattens smoothly.
+double safe_height(const JacobianRay& j, double h, double min_ratio);
+
 }  // namespace freeform::multires

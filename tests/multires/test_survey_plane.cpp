@@ -1,0 +1,182 @@
+// The bumpy-plane test of Botsch & Sorkine's deformation survey (DESIGN.md section 9), rebuilt
+// from its description: a 201 x 201 grid on a 100 x 100 square with 13 smooth bumps 10 units
+// tall, the strip x <= 20 fixed, the far strip x >= 80 translated by (-32, 0, 57) so the plane
+// bends into an S. Judged per edge and per bump against independent measurements: folded
+// edges (dihedral angle grown by more than 60 degrees, computed here), and the apex heights
+// along the normals of the smooth base (the same edit of the plane without bumps).
+// FREEFORM_SURVEY_OUT=DIR writes the meshes and .sel/.def files for rendering.
+#include "freeform/edit/edit_solver.h"
+#include "freeform/io/mesh_io.h"
+#include "freeform/mesh/generators.h"
+#include "freeform/regions/sel_file.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <string>
+#include <vector>
+
+using namespace freeform;
+
+namespace {
+
+constexpr double kHeight = 10.0, kRadius = 10.0;
+constexpr double kFixed = 10.0, kHandle = 90.0;  // x <= kFixed fixed, x >= kHandle the handle
+
+// Bump centres: a 5 x 5 checkerboard over the square (13 cells), 3 in the fixed strip, 3 in
+// the handle strip, 7 in the free part.
+std::vector<Eigen::Vector2d> bump_centres() {
+  std::vector<Eigen::Vector2d> c;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j)
+      if ((i + j) % 2 == 0) c.emplace_back(kFixed + kRadius + 15.0 * i, 10.0 + 20.0 * j);
+  return c;
+}
+
+double bump(double r) { return r < kRadius ? 0.5 * kHeight * (1.0 + std::cos(std::numbers::pi * r / kRadius)) : 0.0; }
+
+struct Survey {
+  Mesh mesh;
+  Edit edit;
+  std::vector<Vertex> apexes;  // the free bumps' centre vertices
+};
+
+Survey survey(int order, bool multiresolution, bool bumps = true, const Vec3& move = Vec3(-32, 0, 57)) {
+  TriangleSoup soup = make_plane(200, 200, 100.0, 100.0);
+  for (Vec3& p : soup.positions)
+    for (const Eigen::Vector2d& c : bump_centres()) p.z() += bumps ? bump((p.head<2>() - c).norm()) : 0.0;
+  Survey s{Mesh::from_soup(soup), {}, {}};
+  s.edit.settings.order = order;
+  s.edit.multiresolution = multiresolution;
+  EditHandle handle;
+  for (Vertex v : s.mesh.vertices()) {
+    const double x = s.mesh.position(v).x();
+    if (x > kFixed + 1e-9) s.edit.support.push_back(v);
+    if (x > kHandle - 1e-9) handle.vertices.push_back(v);
+  }
+  Eigen::Affine3d t = Eigen::Affine3d::Identity();
+  t.translation() = move;
+  handle.matrix = t;
+  s.edit.handles.push_back(handle);
+  for (const Eigen::Vector2d& c : bump_centres()) {
+    const int i = static_cast<int>(std::lround(c.x() / 0.5)), j = static_cast<int>(std::lround(c.y() / 0.5));
+    s.apexes.push_back(Vertex(j * 201 + i));
+  }
+  return s;
+}
+
+// Independent of mesh/folds.h: the angle between the normals of the two faces of every
+// interior edge, from the face list.
+std::vector<double> dihedral_angles(const TriangleSoup& soup, const std::vector<Vec3>& p) {
+  std::vector<Vec3> n;
+  for (const auto& f : soup.faces) n.push_back((p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]).normalized());
+  std::map<std::pair<int, int>, std::vector<int>> faces_of_edge;
+  for (std::size_t f = 0; f < soup.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = soup.faces[f][k], b = soup.faces[f][(k + 1) % 3];
+      faces_of_edge[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(f));
+    }
+  std::vector<double> out;
+  for (const auto& [e, fs] : faces_of_edge)
+    if (fs.size() == 2) out.push_back(std::acos(std::clamp(n[fs[0]].dot(n[fs[1]]), -1.0, 1.0)) * 180.0 / std::numbers::pi);
+  return out;
+}
+
+int folded_edges(const Mesh& rest, const Mesh& deformed) {
+  const TriangleSoup soup = rest.to_soup();
+  const std::vector<double> a = dihedral_angles(soup, rest.positions().raw());
+  const std::vector<double> b = dihedral_angles(soup, deformed.positions().raw());
+  int folded = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) folded += !(b[i] - a[i] <= 60.0);
+  return folded;
+}
+
+// Height of vertex v above the base along the base's area-weighted vertex normal at v.
+double height(const Mesh& mesh, const Mesh& base, const Mesh& detailed, Vertex v) {
+  Vec3 n = Vec3::Zero();
+  for (Face f : mesh.faces()) {
+    const auto h = mesh.halfedges(f);
+    const Vertex a = mesh.from_vertex(h[0]), b = mesh.to_vertex(h[0]), c = mesh.to_vertex(h[1]);
+    if (a != v && b != v && c != v) continue;
+    n += (base.position(b) - base.position(a)).cross(base.position(c) - base.position(a));
+  }
+  return (detailed.position(v) - base.position(v)).dot(n.normalized());
+}
+
+void write_for_rendering(const Survey& s, const Mesh& out, const std::string& name) {
+  const char* dir = std::getenv("FREEFORM_SURVEY_OUT");
+  if (!dir) return;
+  write_mesh(std::string(dir) + "/survey-rest.off", s.mesh.to_soup());
+  TriangleSoup soup = s.mesh.to_soup();
+  soup.positions = out.positions().raw();
+  write_mesh(std::string(dir) + "/" + name + ".off", soup);
+  std::ofstream sel(std::string(dir) + "/survey.sel");
+  for (Vertex v : s.mesh.vertices()) {
+    const double x = s.mesh.position(v).x();
+    sel << (x > kHandle - 1e-9 ? 2 : x > kFixed + 1e-9 ? 1 : 0) << "\n";
+  }
+  std::ofstream def(std::string(dir) + "/survey.def");
+  def << "1 0 0 -32\n0 1 0 0\n0 0 1 57\n0 0 0 1\n";
+}
+
+class SurveyPlane : public ::testing::TestWithParam<int> {};
+
+TEST_P(SurveyPlane, SBendKeepsTheBumpsWithoutFolds) {
+  const int k = GetParam();
+  const Survey s = survey(k, true);
+  ASSERT_EQ(s.apexes.size(), 13u);
+  EditStats stats;
+  const Mesh out = deform(s.mesh, s.edit, &stats);
+  // The smooth base: the same S-bend of the plane without bumps (plain BCM).
+  Survey flat = survey(k, false, false);
+  const Mesh base = deform(flat.mesh, flat.edit);
+  write_for_rendering(s, out, "survey-k" + std::to_string(k));
+
+  const int folded = folded_edges(s.mesh, out);
+  EXPECT_EQ(folded, 0) << "k = " << k;
+  const EditSolver solver(s.mesh, s.edit);
+  VertexData<Vec3> p = s.mesh.positions();
+  solver.evaluate(solver.transforms(s.edit), p);
+  EXPECT_EQ(solver.problems(p).folded_edges, folded);  // the library's metric agrees
+
+  std::vector<double> errors;
+  for (Vertex a : s.apexes) {
+    const double rest = s.mesh.position(a).z();  // the base is flat (z = 0) under the free bumps
+    ASSERT_NEAR(rest, kHeight, 1e-9);
+    errors.push_back(std::abs(height(s.mesh, base, out, a) - rest) / rest);
+  }
+  std::sort(errors.begin(), errors.end());
+  EXPECT_LE(errors[errors.size() / 2], 0.02) << "median apex height error, k = " << k;
+  EXPECT_LE(errors.back(), 0.05) << "max apex height error, k = " << k;
+}
+
+// A bend tighter than the bumps are tall (the bottom of the S has a radius of curvature below
+// 10 under the first row of bumps): the detail there is flattened just enough, counted in the
+// report, and nothing is thrown away from the base (no spikes), nothing is non-finite.
+TEST_P(SurveyPlane, TooTightABendFlattensTheDetailLocally) {
+  const int k = GetParam();
+  const Vec3 move(-55, 0, 60);
+  const Survey s = survey(k, true, true, move);
+  const EditSolver solver(s.mesh, s.edit);
+  VertexData<Vec3> p = s.mesh.positions();
+  solver.evaluate(solver.transforms(s.edit), p);
+  const EditProblems problems = solver.problems(p);
+  EXPECT_EQ(problems.non_finite, 0);
+  EXPECT_GT(problems.detail.overlaps, 0) << "the flattened vertices are counted";
+  EXPECT_LT(problems.detail.overlaps, static_cast<int>(solver.touched().size()) / 50) << "and stay local";
+  EXPECT_EQ(problems.detail.flipped, 0);
+  Survey flat = survey(k, false, false, move);
+  const Mesh base = deform(flat.mesh, flat.edit);
+  double farthest = 0;
+  for (Vertex v : solver.touched()) farthest = std::max(farthest, (p[v] - base.position(v)).norm());
+  EXPECT_LE(farthest, 1.5 * kHeight) << "a spike: a vertex far off its base (the bumps are kHeight tall)";
+}
+
+INSTANTIATE_TEST_SUITE_P(Orders, SurveyPlane, ::testing::Values(2, 3));
+
+}  // namespace
