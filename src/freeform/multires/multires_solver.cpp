@@ -246,7 +246,7 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
     const double c = dn.dot(bn), scale = dn.norm() * bn.norm();
     detail_rest_sign_[k] = c > kFacingCosine * scale ? 1 : (c < -kFacingCosine * scale ? -1 : 0);
   }
-  stats_.decomposition_ms = ms_since(t0);
+  stats_.decomposition_ms = ms_since(t0) + shape.ms;
   progress.step("detail", 1.0);
 }
 
@@ -327,10 +327,16 @@ void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, Verte
       const Vec3 pb = Map3(b + 3 * c.corner[1]), pc = Map3(b + 3 * c.corner[2]);
       const Vec3 na = Map3(nn + 3 * c.corner[0]), nb = Map3(nn + 3 * c.corner[1]), nc = Map3(nn + 3 * c.corner[2]);
       double h = c.h;
+      // Cheap test first (two cross products): flatten only where the offset map nears a fold.
       if (c.min_ratio > -std::numeric_limits<double>::infinity()) {
-        h = multires::safe_height(multires::offset_jacobian_ray(pa, pb, pc, na, nb, nc, c.w[0], c.w[1], c.w[2]), c.h,
-                                  c.min_ratio);
-        flattened += h != c.h ? 1 : 0;
+        const Vec3 ni = c.w[0] * na + c.w[1] * nb + c.w[2] * nc;
+        const Vec3 e1 = pa - pc, e2 = pb - pc;
+        const double a0 = e1.cross(e2).dot(ni);
+        if (!((e1 + c.h * (na - nc)).cross(e2 + c.h * (nb - nc)).dot(ni) >= c.min_ratio * a0) || !(a0 > 0.0)) {
+          h = multires::safe_height(multires::offset_jacobian_ray(pa, pb, pc, na, nb, nc, c.w[0], c.w[1], c.w[2]), c.h,
+                                    c.min_ratio);
+          flattened += h != c.h ? 1 : 0;
+        }
       }
       x = c.w[0] * (pa + h * na) + c.w[1] * (pb + h * nb) + c.w[2] * (pc + h * nc);
     } else if (c.corner[1] >= 0) {
