@@ -216,33 +216,17 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
     const Face f(faces[fl]);
     local_face[f] = static_cast<int>(fl);
     const detail::FaceCorners c = detail::face_corners(mesh, f);
-    const detail::TriangleGeometry g = detail::triangle_geometry(positions[c.v[0]], positions[c.v[1]], positions[c.v[2]]);
-    if (g.degenerate) {
+    const detail::CornerWeights w = detail::corner_weights(positions[c.v[0]], positions[c.v[1]], positions[c.v[2]]);
+    if (w.degenerate) {
       ++sys.degenerate_faces;
       continue;
     }
     // face_corners: corner q lies opposite c.h[q], and c.h = (halfedge(f), next, next).
-    for (int q = 0; q < 3; ++q) {
-      double cot = g.cot(q);
-      if (std::abs(cot) > detail::kCotClamp) {
-        cot = std::copysign(detail::kCotClamp, cot);
-        ++sys.clamped_cotangents;
-      }
-      face_cot[fl][static_cast<std::size_t>(q)] = cot;
-    }
-    // Mixed Voronoi area (Meyer et al. 2003), as in operators/mixed_area.cpp.
-    const double a = 0.5 * g.double_area;
-    total_area += a;
-    int obtuse = -1;
-    for (int q = 0; q < 3; ++q)
-      if (g.dot[static_cast<std::size_t>(q)] < 0.0) obtuse = q;
-    for (int q = 0; q < 3; ++q) {
-      const auto q1 = static_cast<std::size_t>((q + 1) % 3);
-      const auto q2 = static_cast<std::size_t>((q + 2) % 3);
-      const double contribution =
-          obtuse < 0 ? (g.sq_len[q2] * g.cot(static_cast<int>(q2)) + g.sq_len[q1] * g.cot(static_cast<int>(q1))) / 8.0
-                     : (obtuse == q ? 0.5 * a : 0.25 * a);
-      area[p.local[c.v[static_cast<std::size_t>(q)]]] += contribution;
+    face_cot[fl] = w.cot;
+    sys.clamped_cotangents += w.clamped;
+    for (std::size_t q = 0; q < 3; ++q) {
+      area[p.local[c.v[q]]] += w.area[q];
+      total_area += w.area[q];
     }
   }
   auto half_cot = [&](Halfedge h) {  // cotangent opposite h in its face (0 on the mesh boundary)
@@ -286,7 +270,10 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
     c[static_cast<std::size_t>(i)] = regions.role(p.order[static_cast<std::size_t>(i)]) == Role::Fixed ? outer : inner;
   for (const auto& [v, cv] : settings.smoothness.overrides)
     if (p.local[v] >= n_free) c[static_cast<std::size_t>(p.local[v])] = cv;
-  const double area_floor = 1e-12 * (n_inner > 0 && total_area > 0.0 ? total_area / n_inner : 1.0);
+  // The floor of operators' mixed_voronoi_areas (kAreaFloorRatio of the mean vertex area), over
+  // the patch; floored vertices are counted like there.
+  const double area_floor = detail::kAreaFloorRatio * (n_inner > 0 && total_area > 0.0 ? total_area / n_inner : 1.0);
+  for (int i = 0; i < n_inner; ++i) sys.zero_area_vertices += area[i] >= area_floor ? 0 : 1;
 
   // S_k rows of the free vertices: X_1 = L, X_{m+1} = L Lam_m D X_m (rows shrink ring by ring).
   Csr x;

@@ -25,6 +25,7 @@ struct BcmSystem {
   bool symmetric = false;            // checked numerically (is_symmetric), never assumed
   int degenerate_faces = 0;          // operator diagnostics on the assembled faces
   int clamped_cotangents = 0;
+  int zero_area_vertices = 0;        // rows whose area was floored (as in mixed_voronoi_areas)
 };
 
 // Cost: O(size of the k-ring of the free set) plus O(#V + #F) for index arrays. Cotangents

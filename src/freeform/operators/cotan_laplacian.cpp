@@ -31,20 +31,10 @@ EdgeData<double> accumulate_weights(const Mesh& mesh, const VertexData<Vec3>& po
   int clamped = 0;
   for (Face f : mesh.faces()) {
     const detail::FaceCorners c = detail::face_corners(mesh, f);
-    const detail::TriangleGeometry g =
-        detail::triangle_geometry(positions[c.v[0]], positions[c.v[1]], positions[c.v[2]]);
-    if (g.degenerate) {
-      ++degenerate;
-      continue;
-    }
-    for (int k = 0; k < 3; ++k) {
-      double cot = g.cot(k);
-      if (std::abs(cot) > detail::kCotClamp) {
-        cot = std::copysign(detail::kCotClamp, cot);
-        ++clamped;
-      }
-      weight[mesh.edge(c.h[static_cast<std::size_t>(k)])] += cot;
-    }
+    const detail::CornerWeights w = detail::corner_weights(positions[c.v[0]], positions[c.v[1]], positions[c.v[2]]);
+    degenerate += w.degenerate ? 1 : 0;
+    clamped += w.clamped;
+    for (std::size_t k = 0; k < 3; ++k) weight[mesh.edge(c.h[k])] += w.cot[k];
   }
   if (diag) {
     diag->degenerate_faces = degenerate;

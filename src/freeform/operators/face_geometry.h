@@ -55,6 +55,47 @@ inline TriangleGeometry triangle_geometry(const Vec3& p0, const Vec3& p1, const 
   return g;
 }
 
+// The weights one triangle gives its corners, for both the global operators (operators.h) and
+// the local BCM assembly: the clamped cotangent of each corner (it weights the opposite edge)
+// and each corner's mixed Voronoi area (Meyer et al. 2003: Voronoi part for non-obtuse
+// triangles, else half / a quarter of the area). A degenerate face gives nothing.
+struct CornerWeights {
+  bool degenerate = true;
+  std::array<double, 3> cot{};   // clamped to +-kCotClamp
+  std::array<double, 3> area{};  // sums to the triangle's area
+  int clamped = 0;               // how many cotangents were clamped
+};
+
+inline CornerWeights corner_weights(const TriangleGeometry& g) {
+  CornerWeights w;
+  if (g.degenerate) return w;
+  w.degenerate = false;
+  for (int k = 0; k < 3; ++k) {
+    const double cot = g.cot(k);
+    w.clamped += std::abs(cot) > kCotClamp ? 1 : 0;
+    w.cot[static_cast<std::size_t>(k)] = std::clamp(cot, -kCotClamp, kCotClamp);
+  }
+  const double a = 0.5 * g.double_area;
+  int obtuse = -1;
+  for (int k = 0; k < 3; ++k)
+    if (g.dot[static_cast<std::size_t>(k)] < 0.0) obtuse = k;
+  for (int k = 0; k < 3; ++k) {
+    const auto k1 = static_cast<std::size_t>((k + 1) % 3), k2 = static_cast<std::size_t>((k + 2) % 3);
+    // Voronoi part of corner k: (|e_k k1|^2 cot(k2) + |e_k k2|^2 cot(k1)) / 8 with the unclamped
+    // cotangents (the edge k-k1 is opposite k2, the edge k-k2 opposite k1).
+    w.area[static_cast<std::size_t>(k)] =
+        obtuse < 0 ? (g.sq_len[k2] * g.cot(static_cast<int>(k2)) + g.sq_len[k1] * g.cot(static_cast<int>(k1))) / 8.0
+                   : (obtuse == k ? 0.5 * a : 0.25 * a);
+  }
+  return w;
+}
+inline CornerWeights corner_weights(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+  return corner_weights(triangle_geometry(p0, p1, p2));
+}
+
+// Vertex areas below 1e-12 of the mean vertex area are floored to it, so 1 / (2 A) stays finite.
+inline constexpr double kAreaFloorRatio = 1e-12;
+
 // Throws InvalidInput unless `positions` has one finite entry per vertex of `mesh`.
 void check_positions(const Mesh& mesh, const VertexData<Vec3>& positions, const char* function);
 

@@ -16,30 +16,14 @@ Eigen::VectorXd mixed_voronoi_areas(const Mesh& mesh, const VertexData<Vec3>& po
     const detail::TriangleGeometry g =
         detail::triangle_geometry(positions[c.v[0]], positions[c.v[1]], positions[c.v[2]]);
     total_sq_len += g.sq_len[0] + g.sq_len[1] + g.sq_len[2];
-    if (g.degenerate) {
+    const detail::CornerWeights w = detail::corner_weights(g);
+    if (w.degenerate) {
       ++degenerate;
       continue;
     }
-    const double a = 0.5 * g.double_area;
-    total_area += a;
-    int obtuse = -1;
-    for (int k = 0; k < 3; ++k) {
-      if (g.dot[static_cast<std::size_t>(k)] < 0.0) obtuse = k;
-    }
-    for (int k = 0; k < 3; ++k) {
-      const int k1 = (k + 1) % 3;
-      const int k2 = (k + 2) % 3;
-      double contribution;
-      if (obtuse < 0) {
-        // Voronoi part of corner k: (|e_k k1|^2 cot(k2) + |e_k k2|^2 cot(k1)) / 8, where the
-        // edge k-k1 is opposite k2 and the edge k-k2 opposite k1.
-        contribution =
-            (g.sq_len[static_cast<std::size_t>(k2)] * g.cot(k2) + g.sq_len[static_cast<std::size_t>(k1)] * g.cot(k1)) /
-            8.0;
-      } else {
-        contribution = obtuse == k ? 0.5 * a : 0.25 * a;
-      }
-      area[c.v[static_cast<std::size_t>(k)].idx()] += contribution;
+    for (std::size_t k = 0; k < 3; ++k) {
+      area[c.v[k].idx()] += w.area[k];
+      total_area += w.area[k];
     }
   }
 
@@ -50,7 +34,7 @@ Eigen::VectorXd mixed_voronoi_areas(const Mesh& mesh, const VertexData<Vec3>& po
   double reference = non_isolated > 0 ? total_area / non_isolated : 0.0;
   if (!(reference > 0.0) && mesh.n_faces() > 0) reference = total_sq_len / (3.0 * mesh.n_faces());
   if (!(reference > 0.0)) reference = 1.0;
-  const double area_floor = 1e-12 * reference;
+  const double area_floor = detail::kAreaFloorRatio * reference;
   int floored = 0;
   for (Vertex v : mesh.vertices()) {
     if (!mesh.is_isolated(v) && !(area[v.idx()] >= area_floor)) {
