@@ -2,12 +2,11 @@
 
 #include "freeform/common/error.h"
 #include "freeform/mesh/traversal.h"
+#include "freeform/regions/selectors.h"
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
-#include <queue>
 #include <string>
 #include <utility>
 
@@ -75,56 +74,19 @@ std::vector<Vertex> geodesic_flood(const Mesh& mesh, const VertexData<Vec3>& pos
                        std::to_string(mesh.n_vertices()) + " vertices");
   if (!std::isfinite(radius) || radius < 0.0)
     throw InvalidInput("geodesic flood: the radius must be a finite number >= 0, got " + std::to_string(radius));
-  // Dijkstra like geodesic_distance (selectors.h), but on the given positions and touching
-  // only the vertices reached.
-  std::vector<double> dist(static_cast<std::size_t>(mesh.n_vertices()), std::numeric_limits<double>::infinity());
-  using Item = std::pair<double, int>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
   std::vector<Vertex> out;
-  dist[seed.idx()] = 0.0;
-  queue.emplace(0.0, seed.idx());
-  while (!queue.empty()) {
-    const auto [d, i] = queue.top();
-    queue.pop();
-    if (d > dist[i]) continue;  // stale entry
-    const Vertex v(i);
-    out.push_back(v);
-    for (Halfedge h : mesh.outgoing(v)) {
-      const Vertex w = mesh.to_vertex(h);
-      const double nd = d + (positions[w] - positions[v]).norm();
-      if (nd < dist[w.idx()] && nd <= radius) {
-        dist[w.idx()] = nd;
-        queue.emplace(nd, w.idx());
-      }
-    }
-  }
+  (void)geodesic_distance(mesh, positions, seed, radius, &out);
   std::sort(out.begin(), out.end());
   return out;
 }
 
 std::vector<std::vector<Vertex>> region_components(const Mesh& mesh, std::span<const Vertex> set) {
-  std::vector<char> in = flags(mesh, set, "region components");  // cleared once a vertex is placed
-  std::vector<std::vector<Vertex>> pieces;
-  std::vector<Vertex> stack;
-  for (Vertex seed : mesh.vertices()) {  // ascending, so pieces come ordered by smallest vertex
-    if (!in[seed.idx()]) continue;
-    std::vector<Vertex> piece{seed};
-    in[seed.idx()] = 0;
-    stack.push_back(seed);
-    while (!stack.empty()) {
-      const Vertex v = stack.back();
-      stack.pop_back();
-      for (Halfedge h : mesh.outgoing(v)) {
-        const Vertex w = mesh.to_vertex(h);
-        if (!in[w.idx()]) continue;
-        in[w.idx()] = 0;
-        piece.push_back(w);
-        stack.push_back(w);
-      }
-    }
-    std::sort(piece.begin(), piece.end());
-    pieces.push_back(std::move(piece));
-  }
+  const std::vector<char> in = flags(mesh, set, "region components");
+  int count = 0;
+  const VertexData<int> piece = label_pieces(mesh, in, count);
+  std::vector<std::vector<Vertex>> pieces(static_cast<std::size_t>(count));
+  for (Vertex v : mesh.vertices())  // ascending: each piece comes out sorted
+    if (piece[v] >= 0) pieces[static_cast<std::size_t>(piece[v])].push_back(v);
   return pieces;
 }
 

@@ -122,6 +122,25 @@ TEST(Selectors, GeodesicDistanceStopsAtMaxDistance) {
   EXPECT_TRUE(std::isinf(d[Vertex(5)]));
 }
 
+// The positions overload measures the given shape (the editor's flood on a deformed mesh):
+// stretching the grid by 3 along x triples the distances along the x grid line, and `reached`
+// lists exactly the vertices with a finite distance, nearest first.
+TEST(Selectors, GeodesicDistanceOnOtherPositions) {
+  const Mesh mesh = unit_grid(10);
+  VertexData<Vec3> stretched = mesh.positions();
+  for (Vec3& p : stretched.raw()) p.x() *= 3.0;
+  std::vector<Vertex> reached;
+  const VertexData<double> d = geodesic_distance(mesh, stretched, Vertex(0), 0.65, &reached);
+  EXPECT_NEAR(d[Vertex(2)], 0.6, 1e-12);  // (0.2, 0) stretched to (0.6, 0)
+  EXPECT_TRUE(std::isinf(d[Vertex(3)]));  // 0.9 > 0.65
+  EXPECT_NEAR(d[Vertex(11 * 6)], 0.6, 1e-12);  // (0, 0.6): not stretched
+  int finite = 0;
+  for (Vertex v : mesh.vertices()) finite += std::isfinite(d[v]) ? 1 : 0;
+  EXPECT_EQ(static_cast<int>(reached.size()), finite);
+  for (std::size_t i = 1; i < reached.size(); ++i) EXPECT_LE(d[reached[i - 1]], d[reached[i]]);
+  EXPECT_THROW((void)geodesic_distance(mesh, VertexData<Vec3>(3, Vec3::Zero()), Vertex(0), 1.0), InvalidInput);
+}
+
 TEST(Selectors, Labels) {
   const std::vector<int> labels = {0, 1, 2, 1, 0};
   const int free_and_handle[] = {1, 2};

@@ -61,28 +61,35 @@ std::vector<std::vector<Halfedge>> boundary_loops(const Mesh& mesh) {
   return loops;
 }
 
-Components connected_components(const Mesh& mesh) {
-  Components c;
-  c.vertex_component = VertexData<int>(mesh.n_vertices(), -1);
-  c.face_component = FaceData<int>(mesh.n_faces(), -1);
+VertexData<int> label_pieces(const Mesh& mesh, std::span<const char> in, int& count) {
+  VertexData<int> id(mesh.n_vertices(), -1);
+  count = 0;
   std::vector<Vertex> stack;
   for (Vertex seed : mesh.vertices()) {
-    if (c.vertex_component[seed] >= 0) continue;
-    const int id = c.count++;
-    c.vertex_component[seed] = id;
+    if (id[seed] >= 0 || !in[static_cast<std::size_t>(seed.idx())]) continue;
+    id[seed] = count;
     stack.push_back(seed);
     while (!stack.empty()) {
       const Vertex v = stack.back();
       stack.pop_back();
       for (Halfedge h : mesh.outgoing(v)) {
         const Vertex w = mesh.to_vertex(h);
-        if (c.vertex_component[w] < 0) {
-          c.vertex_component[w] = id;
+        if (id[w] < 0 && in[static_cast<std::size_t>(w.idx())]) {
+          id[w] = count;
           stack.push_back(w);
         }
       }
     }
+    ++count;
   }
+  return id;
+}
+
+Components connected_components(const Mesh& mesh) {
+  Components c;
+  const std::vector<char> all(static_cast<std::size_t>(mesh.n_vertices()), 1);
+  c.vertex_component = label_pieces(mesh, all, c.count);
+  c.face_component = FaceData<int>(mesh.n_faces(), -1);
   for (Face f : mesh.faces()) c.face_component[f] = c.vertex_component[mesh.vertices(f)[0]];
   return c;
 }

@@ -30,4 +30,9 @@ struct Components {
 // Components connected through edges, numbered in order of their smallest vertex.
 Components connected_components(const Mesh& mesh);
 
+// Component ids of the pieces of a vertex set connected through edges between its vertices
+// (in[v] != 0; `in` has #V entries), numbered in order of their smallest vertex; -1 outside
+// the set. `count` receives the number of pieces.
+VertexData<int> label_pieces(const Mesh& mesh, std::span<const char> in, int& count);
+
 }  // namespace freeform

@@ -72,10 +72,18 @@ Vertex nearest_vertex(const Mesh& mesh, const Vec3& p) {
 }
 
 VertexData<double> geodesic_distance(const Mesh& mesh, Vertex source, double max_distance) {
+  return geodesic_distance(mesh, mesh.positions(), source, max_distance);
+}
+
+VertexData<double> geodesic_distance(const Mesh& mesh, const VertexData<Vec3>& positions, Vertex source,
+                                     double max_distance, std::vector<Vertex>* reached) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  VertexData<double> dist(mesh.n_vertices(), kInf);
   if (!source.is_valid() || source.idx() >= mesh.n_vertices())
     throw InvalidInput("geodesic distance: source vertex " + std::to_string(source.idx()) + " is outside the mesh");
+  if (positions.size() != static_cast<std::size_t>(mesh.n_vertices()))
+    throw InvalidInput("geodesic distance: got " + std::to_string(positions.size()) + " positions for a mesh with " +
+                       std::to_string(mesh.n_vertices()) + " vertices");
+  VertexData<double> dist(mesh.n_vertices(), kInf);
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
   dist[source] = 0.0;
@@ -85,9 +93,10 @@ VertexData<double> geodesic_distance(const Mesh& mesh, Vertex source, double max
     queue.pop();
     const Vertex v(i);
     if (d > dist[v]) continue;  // stale entry
+    if (reached) reached->push_back(v);
     for (Halfedge h : mesh.outgoing(v)) {
       const Vertex w = mesh.to_vertex(h);
-      const double nd = d + (mesh.position(w) - mesh.position(v)).norm();
+      const double nd = d + (positions[w] - positions[v]).norm();
       if (nd < dist[w] && nd <= max_distance) {
         dist[w] = nd;
         queue.emplace(nd, w.idx());

@@ -36,5 +36,10 @@ Vertex nearest_vertex(const Mesh& mesh, const Vec3& p);
 // triangulation (<= ~1.08 on a regular grid with alternating diagonals).
 VertexData<double> geodesic_distance(const Mesh& mesh, Vertex source,
                                      double max_distance = std::numeric_limits<double>::infinity());
+// The same over edges measured on `positions` (#V entries, e.g. the displayed, deformed
+// shape); `reached`, if given, receives the vertices with a finite distance in the order they
+// are settled (cost O(reached log reached) beyond the #V distance array).
+VertexData<double> geodesic_distance(const Mesh& mesh, const VertexData<Vec3>& positions, Vertex source,
+                                     double max_distance, std::vector<Vertex>* reached = nullptr);
 
 }  // namespace freeform
