@@ -1,7 +1,9 @@
 // The editor's interactive frame, headless (docs/benchmarks.md, "Editor frame"): on a mesh of
 // about 250k triangles with a 35k-vertex support, one frame of a handle drag is
 //   evaluate (BCM basis product) + detail reconstruction (Document::update_display)
-//   + vertex normals (viewer::update_geometry) + GPU upload (Renderer::update_geometry, glFinish)
+//   + positions, normals and bounds of the moving part (viewer::GeometryPatch) + GPU upload of
+//   its vertex range (Renderer::update_geometry, glFinish); the whole-mesh path it replaced is
+//   timed too (whole_mesh_*) and checked to give the same floats every frame
 // and, separately, the draw (Renderer::draw + glFinish; on Mesa llvmpipe this is software
 // rasterization on the CPU). The same calls the editor makes per frame, on an EGL surfaceless
 // context. Prints JSON with medians over the frames.
@@ -14,6 +16,7 @@
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/traversal.h"
 #include "viewer/egl_context.h"
+#include "viewer/geometry_patch.h"
 #include "viewer/offscreen.h"
 #include "viewer/region_colors.h"
 #include "viewer/render_scene.h"
@@ -26,6 +29,7 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -69,8 +73,12 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
   const viewer::Camera camera = viewer::fit_view(scene.bounds, viewer::ViewPreset::Iso, double(width) / height);
   const double diag = 2.0 * scene.bounds.radius();
 
-  std::vector<double> evaluate, reconstruction, update, normals, upload, frame, draw;
+  std::vector<double> evaluate, reconstruction, update, normals, upload, frame, draw, full_normals, full_upload, full_frame;
   const Manipulator start = doc.state().find_handle(id)->manipulator;
+  viewer::RenderScene full = scene;  // the whole-mesh path, for the before/after comparison
+  doc.update_display();
+  viewer::update_geometry(scene, doc.display_positions());
+  const viewer::GeometryPatch patch(scene, doc.display_touched());
   for (int f = 0; f < frames; ++f) {
     Manipulator m = start;
     m.translation += Vec3(0.0, 0.05 * diag * std::sin(0.1 * (f + 1)), 0.02 * diag);
@@ -78,13 +86,24 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
     auto t = Clock::now();
     const editor::FrameTimings ft = doc.update_display();
     const double update_ms = ms_since(t);
+    // Before: every vertex converted, every normal and the bounds recomputed, whole buffers.
     t = Clock::now();
-    viewer::update_geometry(scene, doc.display_positions());
+    viewer::update_geometry(full, doc.display_positions());
+    full_normals.push_back(ms_since(t));
+    t = Clock::now();
+    renderer.update_geometry(full);
+    glFinish();
+    full_upload.push_back(ms_since(t));
+    // Now (the editor's path): the patch of the moving part and one sub-buffer range.
+    t = Clock::now();
+    patch.apply(scene, doc.display_positions());
     const double normals_ms = ms_since(t);
     t = Clock::now();
-    renderer.update_geometry(scene);
+    renderer.update_geometry(scene, patch.ranges());
     glFinish();
     const double upload_ms = ms_since(t);
+    if (scene.positions != full.positions || scene.normals != full.normals)
+      throw std::runtime_error("the patched scene differs from the full recomputation");
     t = Clock::now();
     renderer.draw(camera, width, height);
     glFinish();
@@ -95,6 +114,7 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
     normals.push_back(normals_ms);
     upload.push_back(upload_ms);
     frame.push_back(update_ms + normals_ms + upload_ms);
+    full_frame.push_back(update_ms + full_normals.back() + full_upload.back());
   }
   return {{"mesh", name + " (1 midpoint subdivision)"},
           {"vertices", doc.rest_mesh().n_vertices()},
@@ -115,7 +135,12 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
             {"normals", median(normals)},
             {"upload", median(upload)},
             {"interactive_frame", median(frame)},
-            {"draw", median(draw)}}},
+            {"draw", median(draw)},
+            {"whole_mesh_normals", median(full_normals)},
+            {"whole_mesh_upload", median(full_upload)},
+            {"whole_mesh_interactive_frame", median(full_frame)}}},
+          {"patch_upload_vertices", patch.range_vertices()},
+          {"patch_ranges", patch.ranges().size()},
           {"max_ms", {{"interactive_frame", *std::max_element(frame.begin(), frame.end())}}}};
 }
 

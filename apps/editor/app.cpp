@@ -296,14 +296,27 @@ bool App::update_geometry(bool timed) {
       timings_.normals = 0.0;
       scene_uploaded_ = true;
       shown_display_version_ = doc_.display_version();
+      shown_reset_version_ = doc_.display_reset_version();
+      patch_ = viewer::GeometryPatch(scene_, doc_.display_touched());
       camera_.set_bounds(scene_.bounds);
       geometry = true;
     } else if (doc_.display_version() != shown_display_version_ && display_ok) {
+      // Between resets only the solver's touched vertices move: O(support) (geometry_patch.h).
+      const bool reset = doc_.display_reset_version() != shown_reset_version_;
       auto t0 = Clock::now();
-      viewer::update_geometry(scene_, display);
+      if (reset) {
+        viewer::update_geometry(scene_, display);
+        patch_ = viewer::GeometryPatch(scene_, doc_.display_touched());
+        shown_reset_version_ = doc_.display_reset_version();
+      } else {
+        patch_.apply(scene_, display);
+      }
       timings_.normals = ms_since(t0);
       t0 = Clock::now();
-      renderer_->update_geometry(scene_);
+      if (reset)
+        renderer_->update_geometry(scene_);
+      else
+        renderer_->update_geometry(scene_, patch_.ranges());
       if (timed) glFinish();
       timings_.upload = ms_since(t0);
       shown_display_version_ = doc_.display_version();

@@ -15,6 +15,7 @@
 #include "editor/document.h"
 #include "editor/screen.h"
 #include "editor/tool_controller.h"
+#include "viewer/geometry_patch.h"
 #include "viewer/render_scene.h"
 #include "viewer/renderer.h"
 
@@ -24,6 +25,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -118,6 +120,7 @@ class App {
   void panel_regions();
   void panel_parameters();
   void panel_edit();
+  void problems_line(const EditProblems& p);
 
   // dialogs.cpp
   void status_line();
@@ -153,8 +156,10 @@ class App {
   Document doc_;
   ToolController tools_{doc_};
   viewer::RenderScene scene_;
+  viewer::GeometryPatch patch_;  // what a frame can change between display resets
+  std::optional<EditProblems> shown_problems_;
   bool scene_uploaded_ = false;
-  std::uint64_t shown_display_version_ = 0, shown_region_version_ = 0;
+  std::uint64_t shown_display_version_ = 0, shown_region_version_ = 0, shown_reset_version_ = 0;
   int shown_active_handle_ = -2;
   std::string save_path_;  // where Ctrl+S writes (set by Save as)
   std::string shown_background_error_;

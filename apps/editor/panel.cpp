@@ -249,8 +249,28 @@ void App::panel_parameters() {
       if (ImGui::SmallButton("Recompute")) attempt("recompute", [&] { doc_.recompute(); });
     } else if (doc_.solver_current() && doc_.solver()) {
       ImGui::TextDisabled("solver ready%s", doc_.solver()->multiresolution() ? " (multiresolution)" : "");
+      // Folds and flattened detail, so a problem shows without rendering a close-up; not during
+      // a drag (O(support) per check), the last count stays.
+      if (!tools_.transforming()) shown_problems_ = doc_.display_problems();
+      if (shown_problems_) problems_line(*shown_problems_);
     }
   }
+}
+
+void App::problems_line(const EditProblems& p) {
+  ImGui::SameLine();
+  if (p.ok()) {
+    ImGui::TextDisabled("· no folds");
+    return;
+  }
+  ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.65f, 0.3f, 1.0f));
+  ImGui::Text("· %d folded edges", p.folded_edges);
+  ImGui::PopStyleColor();
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("Edges whose dihedral angle grew by more than 60 degrees: %d\n"
+                      "Vertices whose detail was flattened (bend tighter than the detail is tall): %d\n"
+                      "Detail triangles flipped against their base: %d",
+                      p.folded_edges, p.detail.overlaps, p.detail.flipped);
 }
 
 void App::panel_edit() {

@@ -58,6 +58,7 @@ void Document::reset(std::shared_ptr<const Mesh> rest, std::string path) {
   solver_.reset();
   ++request_tag_;
   display_ = rest_->positions();
+  ++display_reset_version_;
   base_valid_ = true;
   display_stale_ = true;
   problem_ = state_.problem(*rest_);
@@ -363,6 +364,7 @@ FrameTimings Document::update_display() {
   const auto start = std::chrono::steady_clock::now();
   if (!base_valid_) {
     display_ = rest_->positions();
+    ++display_reset_version_;
     base_valid_ = true;
   }
   if (solver_ && solver_->rest() == rest_) {
@@ -380,6 +382,20 @@ FrameTimings Document::update_display() {
   display_stale_ = false;
   ++display_version_;
   return t;
+}
+
+std::span<const Vertex> Document::display_touched() const {
+  if (solver_ && solver_->rest() == rest_) return solver_->touched();
+  return {};
+}
+
+std::optional<EditProblems> Document::display_problems() {
+  if (!solver_ || solver_->rest() != rest_ || !base_valid_) return std::nullopt;
+  if (!problems_ || problems_version_ != display_version_) {
+    problems_ = solver_->solver().problems(display_);
+    problems_version_ = display_version_;
+  }
+  return problems_;
 }
 
 std::string Document::last_error() const {

@@ -112,6 +112,14 @@ class Document {
   const VertexData<Vec3>& display_positions() const { return display_; }
   const FrameTimings& last_timings() const { return timings_; }
   std::uint64_t display_version() const { return display_version_; }  // changes on re-evaluation
+  // Changes when every display position may have changed (a new mesh or solver, an apply);
+  // between two such changes only display_touched() move.
+  std::uint64_t display_reset_version() const { return display_reset_version_; }
+  // The vertices an evaluation writes (the solver's touched(); empty without a solver).
+  std::span<const Vertex> display_touched() const;
+  // Folded edges, flattened detail and flips of the display (EditSolver::problems, O(support)),
+  // recomputed only when the display changed; nullopt while no solver evaluated it.
+  std::optional<EditProblems> display_problems();
   std::uint64_t region_version() const { return region_version_; }    // changes with the colours
 
   // --- background precomputation ---
@@ -177,6 +185,9 @@ class Document {
   bool display_stale_ = true;   // re-evaluate on the next update_display
   FrameTimings timings_;
   std::uint64_t display_version_ = 0;
+  std::uint64_t display_reset_version_ = 0;
+  std::optional<EditProblems> problems_;
+  std::uint64_t problems_version_ = 0;  // display_version_ the problems were computed for
   std::uint64_t region_version_ = 0;
   PrecomputeJob job_;  // last: destroyed (joined) first
 

@@ -12,19 +12,10 @@ void compute_normals(RenderScene& s) {
   s.normals.assign(s.positions.size(), 0.0f);
   const float* p = s.positions.data();
   for (std::size_t t = 0; t + 2 < s.triangles.size(); t += 3) {
-    const std::uint32_t a = s.triangles[t], b = s.triangles[t + 1], c = s.triangles[t + 2];
-    const Eigen::Vector3f pa(p[3 * a], p[3 * a + 1], p[3 * a + 2]), pb(p[3 * b], p[3 * b + 1], p[3 * b + 2]),
-        pc(p[3 * c], p[3 * c + 1], p[3 * c + 2]);
-    const Eigen::Vector3f n = (pb - pa).cross(pc - pa);  // length = 2 * area: area weighting
-    for (const std::uint32_t v : {a, b, c})
-      for (int k = 0; k < 3; ++k) s.normals[3 * v + k] += n[k];
+    const Eigen::Vector3f n = triangle_normal(p, &s.triangles[t]);
+    for (std::size_t k = 0; k < 3; ++k) add3(&s.normals[3 * s.triangles[t + k]], n);
   }
-  for (std::size_t v = 0; v + 2 < s.normals.size(); v += 3) {
-    const float len = std::sqrt(s.normals[v] * s.normals[v] + s.normals[v + 1] * s.normals[v + 1] +
-                                s.normals[v + 2] * s.normals[v + 2]);
-    if (len > 0.0f)
-      for (int k = 0; k < 3; ++k) s.normals[v + k] /= len;
-  }
+  for (std::size_t v = 0; v + 2 < s.normals.size(); v += 3) normalize3(&s.normals[v]);
 }
 
 }  // namespace
@@ -32,14 +23,22 @@ void compute_normals(RenderScene& s) {
 BoundingBox bounding_box(const std::vector<float>& positions) {
   BoundingBox b;
   if (positions.empty()) return b;
+  b = empty_box();
+  for (std::size_t i = 0; i + 2 < positions.size(); i += 3) extend(b, &positions[i]);
+  return b;
+}
+
+BoundingBox empty_box() {
+  BoundingBox b;
   b.min = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   b.max = -b.min;
-  for (std::size_t i = 0; i + 2 < positions.size(); i += 3) {
-    const Eigen::Vector3d q(positions[i], positions[i + 1], positions[i + 2]);
-    b.min = b.min.cwiseMin(q);
-    b.max = b.max.cwiseMax(q);
-  }
   return b;
+}
+
+void extend(BoundingBox& box, const float* p) {
+  const Eigen::Vector3d q(p[0], p[1], p[2]);
+  box.min = box.min.cwiseMin(q);
+  box.max = box.max.cwiseMax(q);
 }
 
 RenderScene make_scene(const TriangleSoup& soup, const Rgb& color) {

@@ -1,5 +1,6 @@
-// What the renderer draws, GL-free: flat float arrays ready for upload. The editor rebuilds
-// `positions`/`normals` per frame (update_geometry) and keeps triangles and colours.
+// What the renderer draws, GL-free: flat float arrays ready for upload. The editor updates
+// `positions`/`normals` per frame in the deformed part only (geometry_patch.h) and keeps
+// triangles and colours.
 #pragma once
 
 #include "viewer/camera.h"
@@ -7,7 +8,10 @@
 #include "freeform/mesh/mesh.h"
 #include "freeform/mesh/types.h"
 
+#include <Eigen/Core>
+
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -38,5 +42,24 @@ void update_geometry(RenderScene& scene, const VertexData<Vec3>& positions);
 void set_colors(RenderScene& scene, const std::vector<Rgb>& colors);
 
 BoundingBox bounding_box(const std::vector<float>& positions);
+BoundingBox empty_box();                        // min +inf, max -inf: extend() fills it
+void extend(BoundingBox& box, const float* p);  // by the point p[0..2]
+
+// The pieces of the normal computation, shared with GeometryPatch so that both give the same
+// floats: the area-weighted normal of triangle tri[0..2] of `positions`, accumulation, and
+// normalization (a zero vector stays zero).
+inline Eigen::Vector3f triangle_normal(const float* positions, const std::uint32_t* tri) {
+  const float *a = positions + 3 * tri[0], *b = positions + 3 * tri[1], *c = positions + 3 * tri[2];
+  const Eigen::Vector3f pa(a[0], a[1], a[2]), pb(b[0], b[1], b[2]), pc(c[0], c[1], c[2]);
+  return (pb - pa).cross(pc - pa);  // length = 2 * area: area weighting
+}
+inline void add3(float* out, const Eigen::Vector3f& n) {
+  for (int k = 0; k < 3; ++k) out[k] += n[k];
+}
+inline void normalize3(float* n) {
+  const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (len > 0.0f)
+    for (int k = 0; k < 3; ++k) n[k] /= len;
+}
 
 }  // namespace freeform::viewer

@@ -143,13 +143,21 @@ void Renderer::upload(const RenderScene& scene) {
 }
 
 void Renderer::update_geometry(const RenderScene& scene) {
+  const std::pair<int, int> all(0, scene.n_vertices());
+  update_geometry(scene, std::span(&all, 1));
+}
+
+void Renderer::update_geometry(const RenderScene& scene, std::span<const std::pair<int, int>> ranges) {
   if (scene.n_vertices() != n_vertices_) throw RenderError("update_geometry: vertex count differs from the upload");
-  const auto sub = [](GLuint vbo, const std::vector<float>& data) {
+  for (const auto& [first, count] : ranges)
+    if (first < 0 || count < 0 || first + count > n_vertices_) throw RenderError("update_geometry: vertex range outside the mesh");
+  for (const auto& [vbo, data] : {std::pair(vbo_position_, &scene.positions), std::pair(vbo_normal_, &scene.normals)}) {
     glBindBuffer(GL_ARRAY_BUFFER, vbo);
-    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(data.size() * sizeof(float)), data.data());
-  };
-  sub(vbo_position_, scene.positions);
-  sub(vbo_normal_, scene.normals);
+    for (const auto& [first, count] : ranges)
+      glBufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(3 * static_cast<std::size_t>(first) * sizeof(float)),
+                      static_cast<GLsizeiptr>(3 * static_cast<std::size_t>(count) * sizeof(float)),
+                      data->data() + 3 * static_cast<std::size_t>(first));
+  }
   check_gl("geometry update");
 }
 

@@ -8,6 +8,8 @@
 #include "viewer/render_scene.h"
 
 #include <cstdint>
+#include <span>
+#include <utility>
 
 namespace freeform::viewer {
 
@@ -36,6 +38,8 @@ class Renderer {
   void upload(const RenderScene& scene);
   // Re-uploads positions and normals only (same vertex count): the editor's per-frame path.
   void update_geometry(const RenderScene& scene);
+  // Only the vertex ranges (first, count) (GeometryPatch::ranges()): sub-buffer updates.
+  void update_geometry(const RenderScene& scene, std::span<const std::pair<int, int>> ranges);
   // Re-uploads colours only (region changes).
   void update_colors(const RenderScene& scene);
 

@@ -13,7 +13,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
+#include <optional>
+#include <span>
 
 namespace freeform::editor {
 namespace {
@@ -67,6 +70,37 @@ TEST(Document, DisplayEqualsDeformOfTheEdit) {
     EXPECT_LE(max_diff(doc.display_positions(), expected.positions()), 1e-12);
     EXPECT_GT(max_diff(doc.display_positions(), doc.rest_mesh().positions()), 0.05);  // it moved
   }
+}
+
+// Between display resets a frame changes only display_touched(): the editor's O(support)
+// display update relies on it. A new solver (new regions) resets the whole display.
+TEST(Document, FramesChangeOnlyTheTouchedVerticesUntilAReset) {
+  Document doc;
+  const int id = setup(doc);
+  const std::uint64_t reset = doc.display_reset_version();
+  const std::span<const Vertex> touched = doc.display_touched();
+  ASSERT_FALSE(touched.empty());
+  const VertexData<Vec3> before = doc.display_positions();
+  Manipulator m = doc.state().find_handle(id)->manipulator;
+  m.translation += Vec3(0.03, -0.02, 0.1);
+  doc.preview_manipulator(id, m);
+  doc.update_display();
+  EXPECT_EQ(doc.display_reset_version(), reset);
+  int changed = 0;
+  for (Vertex v : doc.rest_mesh().vertices()) {
+    if (doc.display_positions()[v] == before[v]) continue;
+    ++changed;
+    EXPECT_TRUE(std::binary_search(touched.begin(), touched.end(), v)) << "vertex " << v.idx();
+  }
+  EXPECT_GT(changed, 0);
+  // The problems of the display are those of the whole mesh (one-shot fold count).
+  const std::optional<EditProblems> p = doc.display_problems();
+  ASSERT_TRUE(p.has_value());
+  EXPECT_EQ(p->non_finite, 0);
+  EXPECT_EQ(p->folded_edges, count_folded_edges(doc.rest_mesh(), doc.rest_mesh().positions(), doc.display_positions()));
+  doc.set_region(PaintMode::Support, disc(doc.rest_mesh(), Vec3(0.5, 0.85, 0), 0.04), true);  // new regions
+  doc.wait_for_precompute();
+  EXPECT_GT(doc.display_reset_version(), reset);
 }
 
 TEST(Document, ExportedEditReplaysTheDisplayAndImportRestoresTheState) {
