@@ -189,7 +189,10 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
           const multires::JacobianRay ray = multires::offset_jacobian_ray(
               Map3(B + 3 * fc[0]), Map3(B + 3 * fc[1]), Map3(B + 3 * fc[2]), Map3(N + 3 * fc[0]), Map3(N + 3 * fc[1]),
               Map3(N + 3 * fc[2]), best.u, best.v, best.w);
-          if (code.rest_sign > 0 && ray.a0 > 0.0) code.min_ratio = kFlattenFraction * ray.at(best.h) / ray.a0;
+          if (code.rest_sign > 0 && ray.a0 > 0.0) {
+            code.min_ratio = kFlattenFraction * ray.at(best.h) / ray.a0;
+            code.min_det = code.min_ratio * ray.a0;  // -inf (never) unless set here
+          }
         }
       }
       if (!found) {
@@ -303,6 +306,14 @@ void MultiresSolver::update_normals() const {
   }
 }
 
+// Out of line: rare, and keeping it out of the reconstruction loop keeps that loop fast.
+[[gnu::noinline]] double MultiresSolver::flattened_height(const Code& c, const Vec3& pa, const Vec3& pb, const Vec3& pc,
+                                                          const Vec3& na, const Vec3& nb, const Vec3& nc) {
+  if (c.min_ratio == -std::numeric_limits<double>::infinity()) return c.h;
+  return multires::safe_height(multires::offset_jacobian_ray(pa, pb, pc, na, nb, nc, c.w[0], c.w[1], c.w[2]), c.h,
+                               c.min_ratio);
+}
+
 void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
   if (positions.size() != static_cast<std::size_t>(n_vertices_))
     throw InvalidInput("multiresolution evaluate: positions have " + std::to_string(positions.size()) +
@@ -327,16 +338,12 @@ void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, Verte
       const Vec3 pb = Map3(b + 3 * c.corner[1]), pc = Map3(b + 3 * c.corner[2]);
       const Vec3 na = Map3(nn + 3 * c.corner[0]), nb = Map3(nn + 3 * c.corner[1]), nc = Map3(nn + 3 * c.corner[2]);
       double h = c.h;
-      // Cheap test first (two cross products): flatten only where the offset map nears a fold.
-      if (c.min_ratio > -std::numeric_limits<double>::infinity()) {
-        const Vec3 ni = c.w[0] * na + c.w[1] * nb + c.w[2] * nc;
-        const Vec3 e1 = pa - pc, e2 = pb - pc;
-        const double a0 = e1.cross(e2).dot(ni);
-        if (!((e1 + c.h * (na - nc)).cross(e2 + c.h * (nb - nc)).dot(ni) >= c.min_ratio * a0) || !(a0 > 0.0)) {
-          h = multires::safe_height(multires::offset_jacobian_ray(pa, pb, pc, na, nb, nc, c.w[0], c.w[1], c.w[2]), c.h,
-                                    c.min_ratio);
-          flattened += h != c.h ? 1 : 0;
-        }
+      // Cheap test first (one cross product against the rest-scaled floor): flatten only where
+      // the offset map nears a fold (the exact test, with the current a0, is in safe_height).
+      const Vec3 ni = c.w[0] * na + c.w[1] * nb + c.w[2] * nc;
+      if ((pa - pc + c.h * (na - nc)).cross(pb - pc + c.h * (nb - nc)).dot(ni) < c.min_det) [[unlikely]] {
+        h = flattened_height(c, pa, pb, pc, na, nb, nc);
+        flattened += h != c.h ? 1 : 0;
       }
       x = c.w[0] * (pa + h * na) + c.w[1] * (pb + h * nb) + c.w[2] * (pc + h * nc);
     } else if (c.corner[1] >= 0) {

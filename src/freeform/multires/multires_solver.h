@@ -113,6 +113,7 @@ class MultiresSolver {
     // det / a0 along the height ray may not fall below this (multires::safe_height): a fixed
     // fraction of its rest value, so the rest never flattens; -inf: never flattened.
     double min_ratio = -std::numeric_limits<double>::infinity();
+    double min_det = -std::numeric_limits<double>::infinity();  // min_ratio * rest a0: a one-cross-product test
   };
 
   MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, const MultiresOptions& options,
@@ -143,6 +144,8 @@ class MultiresSolver {
   mutable int flattened_ = 0;  // vertices whose detail the last evaluate() flattened
 
   void update_base(std::span<const Eigen::Affine3d> transforms) const;
+  static double flattened_height(const Code& c, const Vec3& pa, const Vec3& pb, const Vec3& pc, const Vec3& na,
+                                 const Vec3& nb, const Vec3& nc);
   void update_normals() const;
 };
 
