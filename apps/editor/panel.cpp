@@ -260,11 +260,11 @@ void App::panel_parameters() {
 void App::problems_line(const EditProblems& p) {
   ImGui::SameLine();
   if (p.ok()) {
-    ImGui::TextDisabled("· no folds");
+    ImGui::TextDisabled("| no folds");
     return;
   }
   ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.65f, 0.3f, 1.0f));
-  ImGui::Text("· %d folded edges", p.folded_edges);
+  ImGui::Text("| %d folded edges", p.folded_edges);
   ImGui::PopStyleColor();
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("Edges whose dihedral angle grew by more than 60 degrees: %d\n"
