@@ -1,8 +1,11 @@
 #include "freeform/multires/operator_shape.h"
 
 #include "freeform/bcm/bcm_solver.h"
+#include "freeform/common/error.h"
 
 #include <chrono>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace freeform {
@@ -25,13 +28,20 @@ OperatorShape base_operator_shape(const Mesh& mesh, const Regions& regions, cons
   BcmSettings membrane = settings;
   membrane.order = 1;
   membrane.smoothness = {};
-  const BcmSolver fill(mesh, regions, membrane);
-  progress.check();
+  Progress cancel_only;  // the caller's progress bar follows the main solver's stages
+  cancel_only.cancel = progress.cancel;
+  std::optional<BcmSolver> fill;
+  try {
+    fill.emplace(mesh, regions, membrane, cancel_only);
+  } catch (const SolverError& e) {
+    out.fallback = std::string("the membrane fill failed (") + e.what() + ")";
+    return out;
+  }
   VertexData<Vec3> base = mesh.positions();
-  fill.evaluate(std::vector<Eigen::Affine3d>(static_cast<std::size_t>(fill.n_movable()), Eigen::Affine3d::Identity()), base);
+  fill->evaluate(std::vector<Eigen::Affine3d>(static_cast<std::size_t>(fill->n_movable()), Eigen::Affine3d::Identity()), base);
 
   // Faces around the free vertices, with the membrane's area-weighted vertex normals.
-  const std::vector<Vertex>& free = fill.free_vertices();
+  const std::vector<Vertex>& free = fill->free_vertices();
   std::vector<Face> faces;
   FaceData<char> seen(static_cast<std::size_t>(mesh.n_faces()), 0);
   for (Vertex v : free)
