@@ -1,5 +1,5 @@
 // `freeform deform IN (--edit EDIT.json | --sel F.sel --def F.def [--order k]) -o OUT
-// [--report REPORT.json]`: applies one BCM edit (docs/edit-format.md) and writes the deformed
+// [--deformation linear|nonlinear] [--report REPORT.json]`: applies one BCM edit (docs/edit-format.md) and writes the deformed
 // mesh (same vertex order and faces) and optionally a JSON report with counts and timings.
 #include "commands.h"
 
@@ -26,7 +26,7 @@ namespace {
 constexpr int kEvaluateRepeats = 51;  // the report's evaluate time is the median of these
 
 struct DeformOptions {
-  std::string in, out, edit, sel, def, report;
+  std::string in, out, edit, sel, def, report, deformation;
   int order = 2;
   bool overwrite_input = false;
 };
@@ -63,15 +63,18 @@ void run(const DeformOptions& opt) {
   for (const auto& w : read.warnings) fmt::print(stderr, "warning: {}\n", w);
   const Mesh mesh = Mesh::from_soup(read.soup);
 
-  const Edit edit = opt.edit.empty() ? edit_from_sel_def(opt.sel, opt.def, opt.order, mesh)
-                                     : read_edit_file(opt.edit, mesh);
+  Edit edit = opt.edit.empty() ? edit_from_sel_def(opt.sel, opt.def, opt.order, mesh) : read_edit_file(opt.edit, mesh);
+  if (!opt.deformation.empty())
+    edit.deformation = opt.deformation == "nonlinear" ? Deformation::Nonlinear : Deformation::Linear;
   const EditSolver solver(mesh, edit);
   const std::vector<Eigen::Affine3d> transforms = solver.transforms(edit);
   VertexData<Vec3> positions = mesh.positions();
   // The report's frame times: medians of warm calls (evaluate writes the same result each time).
   std::vector<EditTimings> frames;
-  frames.reserve(kEvaluateRepeats);
-  for (int i = 0; i < kEvaluateRepeats; ++i) {
+  // A nonlinear frame is a whole solve: once is enough (and its report gives its iterations).
+  const int repeats = edit.deformation == Deformation::Linear ? kEvaluateRepeats : 1;
+  frames.reserve(repeats);
+  for (int i = 0; i < repeats; ++i) {
     solver.evaluate(transforms, positions);
     frames.push_back(solver.last_timings());
   }
@@ -90,8 +93,8 @@ void run(const DeformOptions& opt) {
       {"faces", mesh.n_faces()},
   };
   report.update(edit_report(solver, {evaluate_ms, reconstruct_ms}, problems));
-  report["evaluate_repeats"] = kEvaluateRepeats;
-  if (!report["multiresolution"].is_null()) report["multiresolution"]["reconstruct_repeats"] = kEvaluateRepeats;
+  report["evaluate_repeats"] = repeats;
+  if (!report["multiresolution"].is_null()) report["multiresolution"]["reconstruct_repeats"] = repeats;
   report["peak_memory_mb"] = peak_memory_mb();
 
   try {
@@ -114,6 +117,14 @@ void run(const DeformOptions& opt) {
   fmt::print("wrote {} ({} vertices, {} faces): order {}, {} free, {} fixed, {} handles; solver {}, evaluate {:.3f} ms\n",
              opt.out, soup.positions.size(), soup.faces.size(), edit.settings.order, regions.n_free(), regions.n_fixed(),
              regions.handles().size(), st.solver, evaluate_ms);
+  if (const NonlinearState* ns = solver.nonlinear_state()) {
+    fmt::print("nonlinear: {} iterations, residual {:.2g}, {:.1f} ms\n", ns->iterations, ns->step, ns->ms);
+    if (!ns->converged)
+      fmt::print(stderr,
+                 "warning: the nonlinear model stopped at its cap of {} iterations before converging (residual {:.2g} > "
+                 "tolerance {:.2g}); raise \"nonlinear\": {{\"max_iterations\"}} in the edit file\n",
+                 ns->iterations, ns->step, edit.nonlinear.tolerance);
+  }
   if (st.anisotropic)
     fmt::print("anisotropic bending: principal extents {:.4g} x {:.4g} equalized (parametrization {:.1f} ms)\n",
                st.principal_extents[0], st.principal_extents[1], st.parametrization_ms);
@@ -149,6 +160,9 @@ void add_deform_command(CLI::App& app) {
   CLI::Option* order = cmd->add_option("--order", opt->order, "With --sel/--def: energy order k (1, 2, 3)")
                            ->check(CLI::Range(1, 3));
   cmd->add_option("-o,--output", opt->out, "Output mesh; format from the extension")->required();
+  cmd->add_option("--deformation", opt->deformation,
+                  "linear (the paper's BCM) or nonlinear (rotation-aware, large rotations); default: the edit's")
+      ->check(CLI::IsMember({"linear", "nonlinear"}));
   cmd->add_option("--report", opt->report, "Write a JSON report (counts, solver, timings, memory)");
   cmd->add_flag("--overwrite-input", opt->overwrite_input, "Allow the output to be the input file");
   edit->excludes(sel)->excludes(def)->excludes(order);

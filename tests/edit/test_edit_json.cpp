@@ -295,8 +295,17 @@ TEST(EditFile, ArmadilloDemoEditParses) {
 
 TEST(EditFile, DeformationModelKey) {
   EXPECT_EQ(parse(with(R"("deformation": "linear")")).deformation, Deformation::Linear);
-  EXPECT_THAT(error(with(R"("deformation": "rigid")")), HasSubstr(R"(edit.json: "deformation" must be "linear", got "rigid")"));
+  EXPECT_THAT(error(with(R"("deformation": "rigid")")),
+              HasSubstr(R"(edit.json: "deformation" must be "linear" or "nonlinear", got "rigid")"));
   EXPECT_THAT(error(with(R"("deformation": 1)")), HasSubstr(R"("deformation" must be a string)"));
+  const Edit e = parse(with(R"("deformation": "nonlinear", "nonlinear": {"max_iterations": 7, "tolerance": 0.001})"));
+  EXPECT_EQ(e.deformation, Deformation::Nonlinear);
+  EXPECT_EQ(e.nonlinear.max_iterations, 7);
+  EXPECT_EQ(e.nonlinear.tolerance, 0.001);
+  EXPECT_THAT(error(with(R"("nonlinear": {"max_iterations": 0})")),
+              HasSubstr(R"("nonlinear.max_iterations" must be in [1, 100000], got 0)"));
+  EXPECT_THAT(error(with(R"("nonlinear": {"tolerance": 2})")), HasSubstr(R"("nonlinear.tolerance" must be in (0, 1), got 2)"));
+  EXPECT_THAT(error(with(R"("nonlinear": {"steps": 2})")), HasSubstr("steps"));
 }
 
 // Writing is the inverse of reading: every field survives, and the written edit deforms the

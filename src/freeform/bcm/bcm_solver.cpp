@@ -41,7 +41,7 @@ void kernel(int n, int n4_dynamic, const double* __restrict b, const double* __r
 }  // namespace
 
 BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
-                     const Progress& progress, const VertexData<Vec3>* operator_positions)
+                     const Progress& progress, const VertexData<Vec3>* operator_positions, bool keep_system)
     : n_vertices_(mesh.n_vertices()) {
   progress.step("assembly", 0.0);
   // Anisotropic bending: the operator's cotangents and areas come from the equalized
@@ -59,7 +59,8 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   }
   auto t = Clock::now();
   BcmSystem sys = assemble_bcm_system(
-      mesh, domain.used ? domain.positions : operator_positions ? *operator_positions : mesh.positions(), regions, settings);
+      mesh, domain.used ? domain.positions : operator_positions ? *operator_positions : mesh.positions(), regions, settings,
+      keep_system);
   stats_.assembly_ms = ms_since(t);
   stats_.symmetric = sys.symmetric;
   stats_.free = static_cast<int>(sys.free.size());
@@ -68,7 +69,7 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   progress.step("factorization", 0.15);
 
   t = Clock::now();
-  const SparseSolver solver(sys.a_pp, sys.symmetric, settings.solver);
+  SparseSolver solver(sys.a_pp, sys.symmetric, settings.solver);
   stats_.factorization_ms = ms_since(t);
   stats_.solver = solver.name();
   progress.step("basis", 0.6);
@@ -132,6 +133,10 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   basis_ = x.rightCols(4 * n_mov);
   if (n_mov > kStackHandles) scratch_.resize(static_cast<std::size_t>(12 * n_mov));
   stats_.basis_ms = ms_since(t);
+  if (keep_system)
+    system_ = std::make_unique<BcmFactoredSystem>(
+        BcmFactoredSystem{std::move(sys.constrained), std::move(sys.a_pp), std::move(sys.a_pc), std::move(sys.lap),
+                          std::move(sys.outer), std::move(solver)});
   progress.step("basis", 0.9);
 }
 
@@ -203,6 +208,10 @@ void BcmSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData
   Vec3* pos = positions.raw().data();
   const Vertex* fv = free_.data();
   run(g, [pos, fv](int i, double x, double y, double z) { pos[fv[i].idx()] = Vec3(x, y, z); });
+  move_handles(transforms, positions);
+}
+
+void BcmSolver::move_handles(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
   for (std::size_t i = 0; i < handle_vertices_.size(); ++i)
     positions[handle_vertices_[i]] = transforms[static_cast<std::size_t>(handle_owner_[i])] * handle_rest_[i];
 }

@@ -11,12 +11,14 @@
 #include "freeform/bcm/settings.h"
 #include "freeform/common/progress.h"
 #include "freeform/mesh/mesh.h"
+#include "freeform/numerics/sparse_solver.h"
 #include "freeform/regions/regions.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
 #include <array>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -39,6 +41,16 @@ struct BcmStats {
   double parametrization_ms = 0;
 };
 
+// The factored system, kept on request for a model that solves it again with new right-hand
+// sides (the nonlinear model, nonlinear/nonlinear_solver.h). Rows and columns as in BcmSystem.
+struct BcmFactoredSystem {
+  std::vector<Vertex> constrained;  // columns of a_pc
+  Eigen::SparseMatrix<double> a_pp, a_pc;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> lap;  // S_k = outer * lap (BcmSystem)
+  Eigen::SparseMatrix<double> outer;
+  SparseSolver solver;              // factors a_pp
+};
+
 class BcmSolver {
  public:
   using RowMatrixX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
@@ -48,8 +60,9 @@ class BcmSolver {
   // `operator_positions` (default: the mesh's): the shape the operator's cotangents and areas
   // come from; constraints and frames always use the mesh's positions. Multiresolution passes
   // its smooth base here, so the detail's metric does not steer the bend (docs/multires.md).
+  // keep_system: keep the factored system for release_system() (the nonlinear model).
   BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, const Progress& progress = {},
-            const VertexData<Vec3>* operator_positions = nullptr);
+            const VertexData<Vec3>* operator_positions = nullptr, bool keep_system = false);
 
   int n_free() const;
   int n_movable() const;  // number of transforms evaluate() expects, in handle order
@@ -68,6 +81,8 @@ class BcmSolver {
   // Writes the free and movable-handle vertices of `positions` (#V entries; handle vertices
   // move rigidly, h' = T_m(h)); fixed and immovable-handle vertices are untouched.
   void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
+  // Only the movable-handle vertices (h' = T_m(h)); transforms already checked by the caller.
+  void move_handles(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
   static constexpr int kStackHandles = 32;
 
   // The precomputed parts (tests, multiresolution).
@@ -75,6 +90,8 @@ class BcmSolver {
   // B: P x 4M, columns 4m..4m+3 belong to movable handle m.
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& basis() const { return basis_; }
   const std::array<Vec3, 4>& frame(int movable) const { return frames_[static_cast<std::size_t>(movable)]; }
+  // The factored system if built with keep_system (else null); the caller takes it over.
+  std::unique_ptr<BcmFactoredSystem> release_system() { return std::move(system_); }
 
  private:
   BcmStats stats_;
@@ -88,6 +105,7 @@ class BcmSolver {
   std::vector<int> handle_owner_;
   std::vector<Vec3> handle_rest_;
   int n_vertices_ = 0;
+  std::unique_ptr<BcmFactoredSystem> system_;
   mutable std::vector<double> scratch_;  // 12 M doubles, only if M > kStackHandles (see evaluate)
 
   const double* frame_matrix(std::span<const Eigen::Affine3d> transforms, double* stack_buffer) const;

@@ -170,7 +170,7 @@ int row_count(const Patch& p, int max_dist) {
 }  // namespace
 
 BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& positions, const Regions& regions,
-                              const BcmSettings& settings) {
+                              const BcmSettings& settings, bool split_operator) {
   validate_settings(settings);
   const int k = settings.order;
   const int nv = mesh.n_vertices();
@@ -286,6 +286,30 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
     s_rows = &x;
   }
   const double sign = k % 2 == 1 ? -1.0 : 1.0;
+  if (split_operator) {
+    // outer = sign * (L Lam_{k-1} D) ... (L Lam_1 D): the same products started from the identity.
+    Csr id;
+    id.rows = id.cols = n_inner;
+    for (int i = 0; i < n_inner; ++i) {
+      id.inner.push_back(i);
+      id.value.push_back(1.0);
+      id.outer.push_back(i + 1);
+    }
+    Csr y;
+    const Csr* o_rows = &id;
+    for (int m = 1; m <= k - 1; ++m) {
+      Eigen::VectorXd w = Eigen::VectorXd::Zero(n_loc);
+      for (int i = 0; i < n_inner; ++i)
+        w[i] = smoothness_lambda(c[static_cast<std::size_t>(i)], m) / (2.0 * std::max(area[i], area_floor));
+      y = scaled_product(lap, w, *o_rows, m == k - 1 ? n_free : row_count(p, k - 1 - m));
+      o_rows = &y;
+    }
+    Csr top = *o_rows;  // k = 1: the identity's first n_free rows
+    top.rows = n_free;
+    top.outer.resize(static_cast<std::size_t>(n_free) + 1);
+    sys.outer = column_block(top, 0, n_inner, sign);
+    sys.lap = column_block(lap, 0, n_loc, 1.0);
+  }
   sys.a_pp = column_block(*s_rows, 0, n_free, sign);
   sys.a_pc = column_block(*s_rows, n_free, n_loc, sign);
   sys.constrained.assign(p.order.begin() + n_free, p.order.end());

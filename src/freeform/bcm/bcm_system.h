@@ -26,6 +26,12 @@ struct BcmSystem {
   int degenerate_faces = 0;          // operator diagnostics on the assembled faces
   int clamped_cotangents = 0;
   int zero_area_vertices = 0;        // rows whose area was floored (as in mixed_voronoi_areas)
+  // With split_operator (the nonlinear model): S_k = outer * lap. lap: the cotangent Laplacian
+  // rows of the (k-1)-ring (free first, then constrained, as in `constrained`) over the whole
+  // patch (free, then constrained columns); outer: P by those rows, sign included, so that
+  // [a_pp a_pc] = outer * lap. k = 1: outer = -I.
+  Eigen::SparseMatrix<double, Eigen::RowMajor> lap;
+  Eigen::SparseMatrix<double> outer;
 };
 
 // Cost: O(size of the k-ring of the free set) plus O(#V + #F) for index arrays. Cotangents
@@ -38,6 +44,6 @@ struct BcmSystem {
 // `positions`: where cotangents and areas come from (the rest shape; for anisotropic bending
 // a parametrization embedded in z = 0).
 BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& positions, const Regions& regions,
-                              const BcmSettings& settings);
+                              const BcmSettings& settings, bool split_operator = false);
 
 }  // namespace freeform

@@ -7,6 +7,7 @@ namespace freeform {
 std::string_view deformation_name(Deformation d) {
   switch (d) {
     case Deformation::Linear: return "linear";
+    case Deformation::Nonlinear: return "nonlinear";
   }
   return "unknown";
 }

@@ -6,6 +6,7 @@
 #include "freeform/bcm/manipulator.h"
 #include "freeform/bcm/settings.h"
 #include "freeform/mesh/mesh.h"
+#include "freeform/nonlinear/nonlinear_solver.h"
 #include "freeform/regions/regions.h"
 
 #include <Eigen/Geometry>
@@ -18,9 +19,10 @@ namespace freeform {
 
 // The deformation model EditSolver runs (docs/architecture.md says how to add one).
 enum class Deformation {
-  Linear,  // the paper's BCM: a precomputed basis, every frame one dense product
+  Linear,     // the paper's BCM: a precomputed basis, every frame one dense product
+  Nonlinear,  // rotation-aware BCM (docs/nonlinear.md): iterations of back-substitutions
 };
-std::string_view deformation_name(Deformation d);  // "linear", as in edit files
+std::string_view deformation_name(Deformation d);  // "linear", "nonlinear", as in edit files
 
 struct EditHandle {
   std::vector<Vertex> vertices;
@@ -35,6 +37,7 @@ struct Edit {
   std::vector<EditHandle> handles;
   bool multiresolution = true;  // detail-preserving editing (docs/multires.md); the default
   Deformation deformation = Deformation::Linear;
+  NonlinearOptions nonlinear;  // iterations and tolerance of the nonlinear model
 };
 
 int n_movable(const Edit& edit);

@@ -42,7 +42,7 @@ class Parser : JsonReader {
 
   Edit edit(const Json& j) {
     if (!j.is_object()) fail("the edit must be a JSON object, got " + type_of(j));
-    keys(j, "", {"order", "support", "handles", "smoothness", "anisotropic", "multiresolution", "deformation"});
+    keys(j, "", {"order", "support", "handles", "smoothness", "anisotropic", "multiresolution", "deformation", "nonlinear"});
     Edit e;
     if (j.contains("order")) {
       const long long k = integer(j["order"], "order");
@@ -55,6 +55,7 @@ class Parser : JsonReader {
     if (j.contains("anisotropic")) e.settings.anisotropic = boolean(j["anisotropic"], "anisotropic");
     if (j.contains("multiresolution")) e.multiresolution = boolean(j["multiresolution"], "multiresolution");
     if (j.contains("deformation")) e.deformation = deformation(j["deformation"]);
+    if (j.contains("nonlinear")) nonlinear(j["nonlinear"], e.nonlinear);
     e.support = selector(required(j, "", "support"), "support");
     if (j.contains("handles")) {
       const Json& hs = array(j["handles"], "handles");
@@ -70,9 +71,24 @@ class Parser : JsonReader {
 
   Deformation deformation(const Json& j) const {
     const std::string name = string(j, "deformation");
-    for (Deformation d : {Deformation::Linear})
+    for (Deformation d : {Deformation::Linear, Deformation::Nonlinear})
       if (name == deformation_name(d)) return d;
-    fail("\"deformation\" must be \"linear\", got \"" + name + "\"");
+    fail("\"deformation\" must be \"linear\" or \"nonlinear\", got \"" + name + "\"");
+  }
+
+  void nonlinear(const Json& j, NonlinearOptions& o) const {
+    object(j, "nonlinear");
+    keys(j, "nonlinear", {"max_iterations", "tolerance"});
+    if (j.contains("max_iterations")) {
+      const long long n = integer(j["max_iterations"], "nonlinear.max_iterations");
+      if (n < 1 || n > 100000) fail("\"nonlinear.max_iterations\" must be in [1, 100000], got " + std::to_string(n));
+      o.max_iterations = static_cast<int>(n);
+    }
+    if (j.contains("tolerance")) {
+      const double t = number(j["tolerance"], "nonlinear.tolerance");
+      if (!(t > 0.0 && t < 1.0)) fail("\"nonlinear.tolerance\" must be in (0, 1), got " + num(t));
+      o.tolerance = t;
+    }
   }
 
   void smoothness(const Json& j, BcmSettings& settings) const {
@@ -254,6 +270,8 @@ Json edit_to_json(const Edit& edit) {
   j["anisotropic"] = edit.settings.anisotropic;
   j["multiresolution"] = edit.multiresolution;
   j["deformation"] = deformation_name(edit.deformation);
+  if (edit.deformation == Deformation::Nonlinear)
+    j["nonlinear"] = Json{{"max_iterations", edit.nonlinear.max_iterations}, {"tolerance", edit.nonlinear.tolerance}};
   return j;
 }
 

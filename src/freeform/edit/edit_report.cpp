@@ -21,6 +21,12 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
                 {"max_height", ms->max_height},
                 {"flipped_triangles", problems.detail.flipped},
                 {"overlaps", problems.detail.overlaps}};
+  Json nonlinear = nullptr;
+  if (const NonlinearState* ns = solver.nonlinear_state())
+    nonlinear = {{"iterations", ns->iterations},
+                 {"residual", ns->step},
+                 {"converged", ns->converged},
+                 {"iterate_ms", ns->ms}};
   return {
       {"deformation", deformation_name(solver.stats().deformation)},
       {"order", settings.order},
@@ -40,6 +46,7 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
         {"fallback", st.anisotropic_fallback.empty() ? Json(nullptr) : Json(st.anisotropic_fallback)},
         {"parametrization_ms", st.parametrization_ms}}},
       {"multiresolution", std::move(multires)},
+      {"nonlinear", std::move(nonlinear)},
   };
 }
 

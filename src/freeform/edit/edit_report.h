@@ -12,6 +12,8 @@ namespace freeform {
 // basis, evaluate}, residual, folded_edges (mesh/folds.h), anisotropic {requested, used, principal_extents, fallback,
 // parametrization_ms}, multiresolution (null without it; else decomposition_ms,
 // smooth_operator, operator_fallback, operator_shape_ms, reconstruct_ms, normal_encoded, fallback, max_height, flipped_triangles, overlaps).
+// nonlinear (null for the linear model; else iterations, residual = the last iteration's
+// largest vertex move / support extent, converged, iterate_ms).
 // `frame` gives the per-frame times, `problems` the frame's detail problems.
 Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditProblems& problems);
 

@@ -26,13 +26,14 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
       folds_(mesh, mesh.positions(), touched_) {
   progress.check();
   stats_.deformation = edit.deformation;
-  switch (edit.deformation) {
-    case Deformation::Linear:
-      if (edit.multiresolution)
-        multires_ = std::make_unique<MultiresSolver>(mesh, regions_, edit.settings, MultiresOptions{}, progress);
-      else
-        bcm_ = std::make_unique<BcmSolver>(mesh, regions_, edit.settings, progress);
-      break;
+  const bool nonlinear = edit.deformation == Deformation::Nonlinear;
+  if (edit.multiresolution) {
+    MultiresOptions options;
+    if (nonlinear) options.nonlinear = edit.nonlinear;
+    multires_ = std::make_unique<MultiresSolver>(mesh, regions_, edit.settings, options, progress);
+  } else {
+    bcm_ = std::make_unique<BcmSolver>(mesh, regions_, edit.settings, progress, nullptr, nonlinear);
+    if (nonlinear) nonlinear_ = std::make_unique<NonlinearSolver>(mesh, regions_, *bcm_, mesh.positions(), edit.nonlinear);
   }
   stats_.bcm = bcm().stats();
   if (multires_) stats_.multires = multires_->stats();
@@ -59,8 +60,64 @@ std::vector<Eigen::Affine3d> EditSolver::transforms(const Edit& edit) const {
   return out;
 }
 
-void EditSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
+NonlinearSolver* EditSolver::nonlinear() const { return multires_ ? multires_->nonlinear() : nonlinear_.get(); }
+
+const NonlinearState* EditSolver::nonlinear_state() const { return nonlinear() ? &nonlinear()->state() : nullptr; }
+
+void EditSolver::write_nonlinear(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
+  if (positions.size() != static_cast<std::size_t>(n_vertices()))
+    throw InvalidInput("evaluate: positions have " + std::to_string(positions.size()) + " entries, the mesh has " +
+                       std::to_string(n_vertices()) + " vertices");
   if (multires_) {
+    multires_->reconstruct(transforms, positions);
+    timings_.reconstruction_ms = multires_->last_timings().detail_ms;
+    return;
+  }
+  const auto rows = nonlinear_->free_positions();
+  const std::vector<Vertex>& free = bcm_->free_vertices();
+  for (std::size_t i = 0; i < free.size(); ++i) positions[free[i]] = rows.row(static_cast<Eigen::Index>(i)).transpose();
+  bcm_->move_handles(transforms, positions);
+  timings_.reconstruction_ms = 0.0;
+}
+
+NonlinearState EditSolver::evaluate_within(std::span<const Eigen::Affine3d> transforms, double budget_ms,
+                                           VertexData<Vec3>& positions) const {
+  NonlinearSolver* model = nonlinear();
+  if (!model) {
+    evaluate(transforms, positions);
+    return {0, 0.0, true, timings_.evaluate_ms};
+  }
+  model->start(transforms, warm_);
+  warm_ = true;
+  const NonlinearState state = model->iterate(model->options().max_iterations, budget_ms);
+  timings_.evaluate_ms = state.ms;
+  write_nonlinear(transforms, positions);
+  return state;
+}
+
+NonlinearState EditSolver::refine(std::span<const Eigen::Affine3d> transforms, double budget_ms,
+                                  VertexData<Vec3>& positions) const {
+  NonlinearSolver* model = nonlinear();
+  if (!model || !warm_) return evaluate_within(transforms, budget_ms, positions);
+  if (model->state().converged || model->state().iterations >= model->options().max_iterations) return model->state();
+  const NonlinearState state =
+      model->iterate(model->options().max_iterations - model->state().iterations, budget_ms);
+  timings_.evaluate_ms = state.ms;
+  write_nonlinear(transforms, positions);
+  return state;
+}
+
+void EditSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
+  if (nonlinear_) {
+    nonlinear_->start(transforms, false);
+    nonlinear_->iterate(nonlinear_->options().max_iterations);
+    warm_ = true;
+    timings_.evaluate_ms = nonlinear_->state().ms;
+    write_nonlinear(transforms, positions);
+    return;
+  }
+  if (multires_) {
+    if (multires_->nonlinear()) warm_ = true;
     multires_->evaluate(transforms, positions);
     timings_ = {multires_->last_timings().base_ms, multires_->last_timings().detail_ms};
     return;

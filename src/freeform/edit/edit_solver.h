@@ -67,8 +67,20 @@ class EditSolver {
   // map per movable handle, applied to the rest positions. No allocation, O(support).
   // Uses workspace: call from one thread at a time. Throws InvalidInput on a wrong count,
   // a non-finite transform or a wrong size.
+  // The nonlinear model solves cold to convergence (or its iteration cap).
   void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
   const EditTimings& last_timings() const { return timings_; }
+  // The nonlinear model's iterations of the last frame (null for the linear model).
+  const NonlinearState* nonlinear_state() const;
+
+  // A drag (the editor): the nonlinear model starts from the previous frame's solution and
+  // iterates for at most budget_ms, refine() continues where it stopped; both write the
+  // current iterate like evaluate(). The linear model has nothing to refine: both are
+  // evaluate() and report converged.
+  NonlinearState evaluate_within(std::span<const Eigen::Affine3d> transforms, double budget_ms,
+                                 VertexData<Vec3>& positions) const;
+  NonlinearState refine(std::span<const Eigen::Affine3d> transforms, double budget_ms,
+                        VertexData<Vec3>& positions) const;
   // Non-finite positions, folded edges and detail problems of `positions` as written by the
   // last evaluate(). O(support).
   EditProblems problems(const VertexData<Vec3>& positions) const;
@@ -83,9 +95,14 @@ class EditSolver {
   std::vector<Vertex> touched_;
   FoldCounter folds_;
   std::unique_ptr<BcmSolver> bcm_;             // plain linear model
-  std::unique_ptr<MultiresSolver> multires_;   // linear model with detail (owns its BcmSolver)
+  std::unique_ptr<MultiresSolver> multires_;   // either model with detail (owns its solvers)
+  std::unique_ptr<NonlinearSolver> nonlinear_; // plain nonlinear model (over bcm_'s system)
+  mutable bool warm_ = false;                  // a nonlinear iterate exists to start from
   EditStats stats_;
   mutable EditTimings timings_;
+
+  NonlinearSolver* nonlinear() const;
+  void write_nonlinear(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
 };
 
 // Throws SolverError naming the first bad vertex if problems.non_finite > 0.

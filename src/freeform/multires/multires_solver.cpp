@@ -45,7 +45,8 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
 
 MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                                const MultiresOptions& options, const Progress& progress, const OperatorShape& shape)
-    : bcm_(mesh, regions, settings, progress, shape.positions.size() > 0 ? &shape.positions : nullptr),
+    : bcm_(mesh, regions, settings, progress, shape.positions.size() > 0 ? &shape.positions : nullptr,
+           options.nonlinear.has_value()),
       n_vertices_(mesh.n_vertices()) {
   stats_.smooth_operator = shape.positions.size() > 0;
   stats_.operator_fallback = shape.fallback;
@@ -113,7 +114,7 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
   fnormal_.resize(static_cast<Eigen::Index>(faces_.size()), 3);
   normal_.setZero(n_local, 3);
   const std::vector<Eigen::Affine3d> identity(static_cast<std::size_t>(bcm_.n_movable()), Eigen::Affine3d::Identity());
-  update_base(identity);
+  update_base(identity, Base::Linear);
   update_normals();
 
   // --- encode every free vertex ---
@@ -249,6 +250,11 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
     const double c = dn.dot(bn), scale = dn.norm() * bn.norm();
     detail_rest_sign_[k] = c > kFacingCosine * scale ? 1 : (c < -kFacingCosine * scale ? -1 : 0);
   }
+  if (options.nonlinear) {  // the nonlinear base keeps the smooth rest base
+    VertexData<Vec3> rest_base = mesh.positions();
+    for (int i = 0; i < n_free_; ++i) rest_base[free[static_cast<std::size_t>(i)]] = base_.row(i).transpose();
+    nonlinear_ = std::make_unique<NonlinearSolver>(mesh, regions, bcm_, rest_base, *options.nonlinear);
+  }
   stats_.decomposition_ms = ms_since(t0) + shape.ms;
   progress.step("detail", 1.0);
 }
@@ -259,9 +265,17 @@ std::vector<bool> MultiresSolver::fallback_mask() const {
   return out;
 }
 
-void MultiresSolver::update_base(std::span<const Eigen::Affine3d> transforms) const {
+void MultiresSolver::update_base(std::span<const Eigen::Affine3d> transforms, Base source) const {
   auto top = base_.topRows(n_free_);
-  bcm_.evaluate(transforms, top);  // checks the count and finiteness of the transforms
+  if (source == Base::Linear || !nonlinear_) {
+    bcm_.evaluate(transforms, top);  // checks the count and finiteness of the transforms
+  } else {
+    if (source == Base::NonlinearSolve) nonlinear_->solve(transforms, top);  // checks them too
+    else if (static_cast<int>(transforms.size()) != bcm_.n_movable())
+      throw InvalidInput("reconstruct: got " + std::to_string(transforms.size()) + " transforms for " +
+                         std::to_string(bcm_.n_movable()) + " movable handles");
+    else top = nonlinear_->free_positions();
+  }
   const int n_handle = n_moving_ - n_free_;
   double* b = base_.data();
 #pragma omp parallel for schedule(static) if (n_handle > kParallelRows)
@@ -319,7 +333,23 @@ void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, Verte
     throw InvalidInput("multiresolution evaluate: positions have " + std::to_string(positions.size()) +
                        " entries, the mesh has " + std::to_string(n_vertices_) + " vertices");
   const auto t0 = Clock::now();
-  update_base(transforms);
+  update_base(transforms, nonlinear_ ? Base::NonlinearSolve : Base::Linear);
+  timings_.base_ms = ms_since(t0);
+  add_detail(positions);
+}
+
+void MultiresSolver::reconstruct(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
+  if (!nonlinear_) throw InvalidInput("multiresolution reconstruct: the base is linear, use evaluate()");
+  if (positions.size() != static_cast<std::size_t>(n_vertices_))
+    throw InvalidInput("multiresolution reconstruct: positions have " + std::to_string(positions.size()) +
+                       " entries, the mesh has " + std::to_string(n_vertices_) + " vertices");
+  const auto t0 = Clock::now();
+  update_base(transforms, Base::NonlinearIterate);
+  timings_.base_ms = ms_since(t0);
+  add_detail(positions);
+}
+
+void MultiresSolver::add_detail(VertexData<Vec3>& positions) const {
   const auto t1 = Clock::now();
   update_normals();
   const double* b = base_.data();
@@ -360,7 +390,6 @@ void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, Verte
   }
   for (int l = n_free_; l < n_moving_; ++l) out[glob[l]] = Map3(b + 3 * l);
   flattened_ = flattened;
-  timings_.base_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
   timings_.detail_ms = ms_since(t1);
 }
 

@@ -18,6 +18,7 @@
 #include "freeform/common/progress.h"
 #include "freeform/mesh/mesh.h"
 #include "freeform/multires/operator_shape.h"
+#include "freeform/nonlinear/nonlinear_solver.h"
 #include "freeform/regions/regions.h"
 
 #include <Eigen/Core>
@@ -26,6 +27,8 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <optional>
 #include <string>
 #include <span>
 #include <vector>
@@ -39,6 +42,9 @@ struct MultiresOptions {
   Encoding encoding = Encoding::Normal;
   int search_rings = 3;  // candidate faces: around vertices within 0..this-1 rings of the nearest base vertex
   double barycentric_tolerance = 1e-4;   // a root counts if every barycentric >= -tolerance
+  // Set: the base follows the nonlinear model (nonlinear/nonlinear_solver.h) instead of the
+  // linear basis; the detail rides along unchanged.
+  std::optional<NonlinearOptions> nonlinear;
 };
 
 struct MultiresStats {
@@ -92,7 +98,14 @@ class MultiresSolver {
   // No allocation, O(support), parallel (OpenMP static schedule above a size threshold).
   // Uses workspace members: do not call evaluate()/problems() concurrently on one solver.
   // Throws InvalidInput on a wrong transform count, a non-finite transform or a wrong size.
+  // With a nonlinear base: one cold solve of that model (to convergence or its cap).
   void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
+
+  // The nonlinear model of the base (null for the linear base). The editor's drag runs its
+  // start/iterate itself and calls reconstruct() to show the current iterate with its detail.
+  NonlinearSolver* nonlinear() const { return nonlinear_.get(); }
+  // Like evaluate(), with the base taken from nonlinear()'s current iterate (no solve).
+  void reconstruct(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
 
   // Flipped triangles and local overlaps of `positions` as written by the last evaluate()
   // (it uses that call's base). Counts only changes against the rest state. O(support).
@@ -120,6 +133,7 @@ class MultiresSolver {
                  const Progress& progress, const OperatorShape& shape);
 
   BcmSolver bcm_;
+  std::unique_ptr<NonlinearSolver> nonlinear_;
   MultiresStats stats_;
   int n_vertices_ = 0;
   int n_free_ = 0;
@@ -143,7 +157,9 @@ class MultiresSolver {
   mutable MultiresTimings timings_;
   mutable int flattened_ = 0;  // vertices whose detail the last evaluate() flattened
 
-  void update_base(std::span<const Eigen::Affine3d> transforms) const;
+  enum class Base { Linear, NonlinearSolve, NonlinearIterate };
+  void update_base(std::span<const Eigen::Affine3d> transforms, Base source) const;
+  void add_detail(VertexData<Vec3>& positions) const;
   static double flattened_height(const Code& c, const Vec3& pa, const Vec3& pb, const Vec3& pc, const Vec3& na,
                                  const Vec3& nb, const Vec3& nc);
   void update_normals() const;

@@ -1,0 +1,256 @@
+#include "freeform/nonlinear/nonlinear_solver.h"
+
+#include "freeform/common/error.h"
+#include "freeform/nonlinear/rotation.h"
+
+#include <Eigen/SVD>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace freeform {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr int kParallelRows = 2048;
+// Positive part of the cotangent weights, plus this fraction of their mean so that no edge of a
+// needle triangle drops out of the rotation fit entirely.
+constexpr double kWeightFloor = 1e-3;
+
+Eigen::Map<const Vec3> row(const double* p, Eigen::Index i) { return Eigen::Map<const Vec3>(p + 3 * i); }
+
+// The rotation and uniform scale of an affine map's linear part: polar decomposition, scale the
+// cube root of |det| (1 where the map is singular).
+void rotation_and_scale(const Eigen::Matrix3d& l, Eigen::Quaterniond& q, double& scale) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(l, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d u = svd.matrixU();
+  if ((u * svd.matrixV().transpose()).determinant() < 0) u.col(2) *= -1.0;
+  q = Eigen::Quaterniond(u * svd.matrixV().transpose()).normalized();
+  const double det = std::abs(l.determinant());
+  scale = det > 1e-300 && std::isfinite(det) ? std::cbrt(det) : 1.0;
+}
+
+}  // namespace
+
+struct NonlinearSolver::Data {
+  std::unique_ptr<BcmFactoredSystem> sys;
+  // Local vertices (the BCM patch): rows [0, P) free (BCM order), then the constrained ones.
+  int n_inner = 0;                   // rows of sys->lap: the (k-1)-ring
+  RowMatrixX3d rest;                 // (P + C) x 3
+  RowMatrixX3d x;                    // (P + C) x 3, current
+  Eigen::MatrixXd phi;               // P x M: BCM's weight of movable handle m at free vertex i
+  std::vector<int> owner;            // per constrained vertex: movable handle or -1
+  std::vector<int> nbr_offset, nbr;  // CSR: 1-ring of each free vertex (local indices)
+  std::vector<double> nbr_w;         // positive cotangent weights for the rotation fit
+  double extent = 1.0;
+  // Per local vertex: rotation times scale (free: fitted, warm-started; constrained: the
+  // handle's, or the identity), and the free vertices' guidance rotation of the last start.
+  std::vector<Eigen::Quaterniond> q, guide;
+  std::vector<double> scale;
+  std::vector<Eigen::Matrix3d> cov, cov2;  // workspace of the rotation fit
+  Eigen::MatrixXd ac;                // P x 3: A_pc (x_c - x_c rest), fixed during a solve
+  Eigen::MatrixXd b1;                // n_inner x 3: rotated minus rest Laplacian coordinates
+  RowMatrixX3d last;                 // P x 3: free rows before the last global step
+};
+
+NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSolver& linear,
+                                 const VertexData<Vec3>& rest, const NonlinearOptions& options)
+    : d_(std::make_unique<Data>()), options_(options) {
+  Data& d = *d_;
+  d.sys = linear.release_system();
+  if (!d.sys) throw InternalError("NonlinearSolver: the BcmSolver was built without keep_system");
+  const std::vector<Vertex>& free = linear.free_vertices();
+  n_free_ = static_cast<int>(free.size());
+  n_movable_ = linear.n_movable();
+  const int p = n_free_, c = static_cast<int>(d.sys->constrained.size());
+  d.n_inner = static_cast<int>(d.sys->lap.rows());
+
+  VertexData<int> local(static_cast<std::size_t>(mesh.n_vertices()), -1);
+  d.rest.resize(p + c, 3);
+  for (int i = 0; i < p; ++i) {
+    local[free[static_cast<std::size_t>(i)]] = i;
+    d.rest.row(i) = rest[free[static_cast<std::size_t>(i)]].transpose();
+  }
+  d.owner.resize(static_cast<std::size_t>(c));
+  for (int j = 0; j < c; ++j) {
+    const Vertex v = d.sys->constrained[static_cast<std::size_t>(j)];
+    local[v] = p + j;
+    d.rest.row(p + j) = rest[v].transpose();
+    const int h = regions.handle_of(v);
+    d.owner[static_cast<std::size_t>(j)] = h >= 0 ? regions.movable_index(h) : -1;
+  }
+  d.x = d.rest;
+  d.extent = std::max((d.rest.colwise().maxCoeff() - d.rest.colwise().minCoeff()).norm(), 1e-300);
+
+  // Guidance weights: a translation t moves free vertex i by (sum of its basis row over the
+  // handle's 4 frame columns) * t, BCM's own smooth blend of that handle.
+  d.phi.resize(p, n_movable_);
+  for (int m = 0; m < n_movable_; ++m)
+    d.phi.col(m) = linear.basis().middleCols(4 * m, 4).rowwise().sum().cwiseMax(0.0).cwiseMin(1.0);
+
+  // The 1-ring of each free vertex with the positive part of the operator's cotangent weights.
+  d.nbr_offset.assign(1, 0);
+  for (int i = 0; i < p; ++i) {
+    const std::size_t first = d.nbr.size();
+    double sum = 0.0;
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(d.sys->lap, i); it; ++it) {
+      if (it.col() == i) continue;
+      d.nbr.push_back(static_cast<int>(it.col()));
+      d.nbr_w.push_back(std::max(it.value(), 0.0));
+      sum += d.nbr_w.back();
+    }
+    const std::size_t n = d.nbr.size() - first;
+    const double floor = n > 0 ? kWeightFloor * (sum > 0.0 ? sum / static_cast<double>(n) : 1.0) : 0.0;
+    for (std::size_t k = first; k < d.nbr.size(); ++k) d.nbr_w[k] += floor;
+    d.nbr_offset.push_back(static_cast<int>(d.nbr.size()));
+  }
+  d.q.assign(static_cast<std::size_t>(p + c), Eigen::Quaterniond::Identity());
+  d.guide.assign(static_cast<std::size_t>(p), Eigen::Quaterniond::Identity());
+  d.scale.assign(static_cast<std::size_t>(p + c), 1.0);
+  d.cov.resize(static_cast<std::size_t>(p));
+  d.cov2.resize(static_cast<std::size_t>(p));
+  d.ac = Eigen::MatrixXd::Zero(p, 3);
+  d.b1.resize(d.n_inner, 3);
+  d.last.resize(p, 3);
+}
+
+NonlinearSolver::~NonlinearSolver() = default;
+NonlinearSolver::NonlinearSolver(NonlinearSolver&&) noexcept = default;
+NonlinearSolver& NonlinearSolver::operator=(NonlinearSolver&&) noexcept = default;
+
+Eigen::Ref<const NonlinearSolver::RowMatrixX3d> NonlinearSolver::free_positions() const {
+  return d_->x.topRows(n_free_);
+}
+
+void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool warm) {
+  Data& d = *d_;
+  if (static_cast<int>(transforms.size()) != n_movable_)
+    throw InvalidInput("evaluate: got " + std::to_string(transforms.size()) + " transforms for " +
+                       std::to_string(n_movable_) + " movable handles");
+  std::vector<Eigen::Quaterniond> handle_q(static_cast<std::size_t>(n_movable_));
+  std::vector<Vec3> omega(static_cast<std::size_t>(n_movable_));
+  std::vector<double> handle_s(static_cast<std::size_t>(n_movable_), 1.0);
+  for (int m = 0; m < n_movable_; ++m) {
+    const auto um = static_cast<std::size_t>(m);
+    const Eigen::Affine3d& t = transforms[um];
+    if (!t.matrix().allFinite()) throw InvalidInput("evaluate: transform " + std::to_string(m) + " is not finite");
+    rotation_and_scale(t.linear(), handle_q[um], handle_s[um]);
+    omega[um] = rotation_vector(handle_q[um]);
+  }
+  const int p = n_free_, c = static_cast<int>(d.owner.size());
+  // Constraints with their rotations, and their fixed contribution A_pc (x_c - x_c rest).
+  Eigen::MatrixXd dc(c, 3);
+  for (int j = 0; j < c; ++j) {
+    const int m = d.owner[static_cast<std::size_t>(j)];
+    const auto uj = static_cast<std::size_t>(p + j);
+    const Vec3 r = d.rest.row(p + j).transpose();
+    const Vec3 y = m >= 0 ? Vec3(transforms[static_cast<std::size_t>(m)] * r) : r;
+    d.x.row(p + j) = y.transpose();
+    dc.row(j) = (y - r).transpose();
+    d.q[uj] = m >= 0 ? handle_q[static_cast<std::size_t>(m)] : Eigen::Quaterniond::Identity();
+    d.scale[uj] = m >= 0 ? handle_s[static_cast<std::size_t>(m)] : 1.0;
+  }
+  d.ac = d.sys->a_pc * dc;
+  // Guidance: rotation vectors and log scales blended with BCM's weights.
+#pragma omp parallel for schedule(static) if (p > kParallelRows)
+  for (int i = 0; i < p; ++i) {
+    Vec3 w = Vec3::Zero();
+    double ls = 0.0;
+    for (int m = 0; m < n_movable_; ++m) {
+      w += d.phi(i, m) * omega[static_cast<std::size_t>(m)];
+      ls += d.phi(i, m) * std::log(handle_s[static_cast<std::size_t>(m)]);
+    }
+    const auto ui = static_cast<std::size_t>(i);
+    const Eigen::Quaterniond g = rotation_from_vector(w);
+    d.q[ui] = warm ? (g * d.guide[ui].conjugate() * d.q[ui]).normalized() : g;
+    d.guide[ui] = g;
+    d.scale[ui] = std::exp(ls);
+  }
+  if (!warm) d.x.topRows(p) = d.rest.topRows(p);
+  state_ = {};
+}
+
+const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget_ms) {
+  Data& d = *d_;
+  const auto t0 = Clock::now();
+  const double ms0 = state_.ms;
+  const int p = n_free_, n_inner = d.n_inner;
+  const auto& lap = d.sys->lap;
+  for (int it = 0; it < max_iterations; ++it) {
+    // Global step: the rest's Laplacian coordinates with each edge rotated and scaled by the
+    // mean of its ends (ARAP's right-hand side), minus the rest's own: exactly zero at rest.
+    //   A_pp (x_p - rest_p) = outer * b1 - A_pc (x_c - rest_c)
+#pragma omp parallel for schedule(static) if (n_inner > kParallelRows)
+    for (int i = 0; i < n_inner; ++i) {
+      const auto ui = static_cast<std::size_t>(i);
+      const Eigen::Matrix3d ri = d.scale[ui] * d.q[ui].toRotationMatrix();
+      Vec3 b = Vec3::Zero();
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator e(lap, i); e; ++e) {
+        const auto j = static_cast<std::size_t>(e.col());
+        if (e.col() == i) continue;
+        const Eigen::Matrix3d rj = d.scale[j] * d.q[j].toRotationMatrix();
+        const Vec3 edge = row(d.rest.data(), e.col()) - row(d.rest.data(), i);
+        b += e.value() * (0.5 * (ri + rj) * edge - edge);
+      }
+      d.b1.row(i) = b.transpose();
+    }
+    const Eigen::MatrixXd rhs = d.sys->outer * d.b1 - d.ac;
+    const Eigen::MatrixXd disp = d.sys->solver.solve(rhs);
+    d.last = d.x.topRows(p);
+    d.x.topRows(p) = d.rest.topRows(p) + disp;
+    state_.step = (d.x.topRows(p) - d.last).rowwise().norm().maxCoeff() / d.extent;
+    ++state_.iterations;
+    state_.converged = state_.step <= options_.tolerance;
+    state_.ms = ms0 + std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    if (state_.converged || state_.ms - ms0 >= budget_ms) break;
+    fit_rotations();
+  }
+  return state_;
+}
+
+void NonlinearSolver::fit_rotations() {
+  Data& d = *d_;
+  const int p = n_free_;
+  const double* x = d.x.data();
+  const double* xr = d.rest.data();
+#pragma omp parallel for schedule(static) if (p > kParallelRows)
+  for (int i = 0; i < p; ++i) {
+    Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
+    const Vec3 xi = row(x, i), ri = row(xr, i);
+    for (int k = d.nbr_offset[static_cast<std::size_t>(i)]; k < d.nbr_offset[static_cast<std::size_t>(i) + 1]; ++k) {
+      const int j = d.nbr[static_cast<std::size_t>(k)];
+      s += d.nbr_w[static_cast<std::size_t>(k)] * (row(x, j) - xi) * (row(xr, j) - ri).transpose();
+    }
+    d.cov[static_cast<std::size_t>(i)] = s;
+  }
+  // Summing the neighbours' covariances ring by ring fits R_i to a wider patch: a smoother
+  // rotation field (like SR-ARAP's smoothness term), fewer iterations, less necking.
+  for (int pass = 0; pass < options_.rotation_smoothing; ++pass) {
+#pragma omp parallel for schedule(static) if (p > kParallelRows)
+    for (int i = 0; i < p; ++i) {
+      const auto ui = static_cast<std::size_t>(i);
+      Eigen::Matrix3d s = d.cov[ui];
+      for (int k = d.nbr_offset[ui]; k < d.nbr_offset[ui + 1]; ++k) {
+        const int j = d.nbr[static_cast<std::size_t>(k)];
+        if (j < p) s += d.cov[static_cast<std::size_t>(j)];
+      }
+      d.cov2[ui] = s;
+    }
+    std::swap(d.cov, d.cov2);
+  }
+#pragma omp parallel for schedule(static) if (p > kParallelRows)
+  for (int i = 0; i < p; ++i) extract_rotation(d.cov[static_cast<std::size_t>(i)], d.q[static_cast<std::size_t>(i)]);
+}
+
+void NonlinearSolver::solve(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out) {
+  if (out.rows() != n_free_)
+    throw InvalidInput("evaluate: output has " + std::to_string(out.rows()) + " rows, expected " +
+                       std::to_string(n_free_));
+  start(transforms, false);
+  iterate(options_.max_iterations);
+  out = free_positions();
+}
+
+}  // namespace freeform

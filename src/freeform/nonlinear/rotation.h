@@ -1,0 +1,22 @@
+// Rotations of the nonlinear model: the rotation-vector form of a quaternion and back (the
+// guidance field blends rotation vectors), and the rotation nearest to a matrix.
+#pragma once
+
+#include "freeform/mesh/types.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace freeform {
+
+// axis * angle with angle in [0, pi], and its inverse.
+Vec3 rotation_vector(const Eigen::Quaterniond& q);
+Eigen::Quaterniond rotation_from_vector(const Vec3& w);
+
+// The rotation R maximizing trace(R^T a) (the polar factor of a; for a = sum w e' e^T the
+// best fit of rest edges e to deformed edges e'), refined in place from the warm start q
+// (Mueller et al. 2016, "A robust method to extract the rotational part of deformations"):
+// always a unit quaternion, no SVD, a few iterations when q is close.
+void extract_rotation(const Eigen::Matrix3d& a, Eigen::Quaterniond& q, int max_iterations = 20);
+
+}  // namespace freeform

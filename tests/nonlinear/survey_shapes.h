@@ -1,0 +1,123 @@
+// Survey-like test shapes and the measurements of the nonlinear issue (Botsch & Sorkine's
+// deformation survey, rebuilt from its description): a closed square bar, a closed capsule
+// ("cylinder"), and per-face / per-edge quality measures computed here from the face list.
+#pragma once
+
+#include "freeform/mesh/mesh.h"
+#include "freeform/mesh/types.h"
+
+#include <Eigen/SVD>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <tuple>
+#include <vector>
+
+namespace freeform::test {
+
+// Closed box [0,sx] x [0,sy] x [0,sz], n cells per unit length, outward faces.
+inline TriangleSoup make_box(double sx, double sy, double sz, int per_unit) {
+  TriangleSoup soup;
+  std::map<std::tuple<long, long, long>, int> index;
+  auto vertex = [&](const Vec3& p) {
+    const auto key = std::make_tuple(std::lround(p.x() * 1e6), std::lround(p.y() * 1e6), std::lround(p.z() * 1e6));
+    auto [it, added] = index.emplace(key, static_cast<int>(soup.positions.size()));
+    if (added) soup.positions.push_back(p);
+    return it->second;
+  };
+  const Vec3 size(sx, sy, sz);
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      const int a = (axis + 1) % 3, b = (axis + 2) % 3;  // e_a x e_b = e_axis
+      const int na = std::max(1, static_cast<int>(std::lround(size[a] * per_unit)));
+      const int nb = std::max(1, static_cast<int>(std::lround(size[b] * per_unit)));
+      std::vector<int> ids;
+      for (int j = 0; j <= nb; ++j)
+        for (int i = 0; i <= na; ++i) {
+          Vec3 p = Vec3::Zero();
+          p[axis] = side * size[axis];
+          p[a] = size[a] * i / na;
+          p[b] = size[b] * j / nb;
+          ids.push_back(vertex(p));
+        }
+      for (int j = 0; j < nb; ++j)
+        for (int i = 0; i < na; ++i) {
+          const int v00 = ids[j * (na + 1) + i], v10 = ids[j * (na + 1) + i + 1];
+          const int v01 = ids[(j + 1) * (na + 1) + i], v11 = ids[(j + 1) * (na + 1) + i + 1];
+          if (side == 1) {
+            soup.faces.push_back({v00, v10, v11});
+            soup.faces.push_back({v00, v11, v01});
+          } else {
+            soup.faces.push_back({v00, v11, v10});
+            soup.faces.push_back({v00, v01, v11});
+          }
+        }
+    }
+  return soup;
+}
+
+// Closed capsule around the z axis: a tube of the given radius for z in [0, length] with
+// hemispherical caps, `segments` around, `rings` along the tube, segments / 4 per cap.
+inline TriangleSoup make_capsule(double radius, double length, int segments, int rings) {
+  TriangleSoup soup;
+  const int cap = segments / 4;
+  std::vector<std::pair<double, double>> circles;  // (z, r) from bottom to top
+  for (int k = cap - 1; k >= 1; --k) {
+    const double t = std::numbers::pi / 2 * k / cap;
+    circles.emplace_back(-radius * std::sin(t), radius * std::cos(t));
+  }
+  for (int k = 0; k <= rings; ++k) circles.emplace_back(length * k / rings, radius);
+  for (int k = 1; k < cap; ++k) {
+    const double t = std::numbers::pi / 2 * k / cap;
+    circles.emplace_back(length + radius * std::sin(t), radius * std::cos(t));
+  }
+  soup.positions.push_back(Vec3(0, 0, -radius));
+  for (const auto& [z, r] : circles)
+    for (int s = 0; s < segments; ++s) {
+      const double a = 2 * std::numbers::pi * s / segments;
+      soup.positions.push_back(Vec3(r * std::cos(a), r * std::sin(a), z));
+    }
+  soup.positions.push_back(Vec3(0, 0, length + radius));
+  const int n_circles = static_cast<int>(circles.size()), top = static_cast<int>(soup.positions.size()) - 1;
+  auto id = [&](int c, int s) { return 1 + c * segments + (s % segments); };
+  for (int s = 0; s < segments; ++s) soup.faces.push_back({0, id(0, s + 1), id(0, s)});
+  for (int c = 0; c + 1 < n_circles; ++c)
+    for (int s = 0; s < segments; ++s) {
+      soup.faces.push_back({id(c, s), id(c, s + 1), id(c + 1, s + 1)});
+      soup.faces.push_back({id(c, s), id(c + 1, s + 1), id(c + 1, s)});
+    }
+  for (int s = 0; s < segments; ++s) soup.faces.push_back({top, id(n_circles - 1, s), id(n_circles - 1, s + 1)});
+  return soup;
+}
+
+// Enclosed volume (divergence theorem; positive for outward faces).
+inline double volume(const Mesh& mesh, const VertexData<Vec3>& p) {
+  double v = 0;
+  for (Face f : mesh.faces()) {
+    const auto c = mesh.vertices(f);
+    v += p[c[0]].dot(p[c[1]].cross(p[c[2]])) / 6.0;
+  }
+  return v;
+}
+
+// Smallest singular value over faces of the deformation gradient (rest triangle -> deformed),
+// the collapse measure: 1 for rigid motions, < 1 where a face shrinks in some direction.
+inline double min_singular_value(const Mesh& mesh, const VertexData<Vec3>& rest, const VertexData<Vec3>& p) {
+  double lo = std::numeric_limits<double>::infinity();
+  for (Face f : mesh.faces()) {
+    const auto c = mesh.vertices(f);
+    const Vec3 e1 = rest[c[1]] - rest[c[0]], e2 = rest[c[2]] - rest[c[0]];
+    const Vec3 u = e1.normalized(), w = (e2 - e2.dot(u) * u).normalized();
+    Eigen::Matrix2d r;
+    r << e1.dot(u), e2.dot(u), e1.dot(w), e2.dot(w);
+    Eigen::Matrix<double, 3, 2> d;
+    d << p[c[1]] - p[c[0]], p[c[2]] - p[c[0]];
+    const Eigen::Matrix<double, 3, 2> j = d * r.inverse();
+    lo = std::min(lo, Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(j).singularValues()[1]);
+  }
+  return lo;
+}
+
+}  // namespace freeform::test

@@ -1,0 +1,139 @@
+// Invariants of the nonlinear model that follow from its definition, independent of any
+// reference shape: the rest is a fixed point (exactly), rigid motions of every constraint are
+// reproduced, the per-frame drag API converges to the cold solve, and small edits stay close
+// to linear BCM with a first-order difference proportional to the rotation (see below).
+#include "survey_shapes.h"
+
+#include "freeform/edit/edit_solver.h"
+#include "freeform/mesh/generators.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+using namespace freeform;
+using namespace freeform::test;
+
+namespace {
+
+// A capsule with two handles at its ends (no fixed vertices): every constraint is a handle.
+Edit two_ended(const Mesh& mesh, int order, bool fixed_bottom) {
+  Edit e;
+  e.settings.order = order;
+  e.multiresolution = false;
+  e.deformation = Deformation::Nonlinear;
+  e.nonlinear.tolerance = 1e-9;
+  e.nonlinear.max_iterations = 400;
+  EditHandle bottom, top;
+  for (Vertex v : mesh.vertices()) {
+    const double z = mesh.position(v).z();
+    if (!fixed_bottom || z >= 0.5) e.support.push_back(v);
+    if (z < 0.5) bottom.vertices.push_back(v);
+    if (z > 3.5) top.vertices.push_back(v);
+  }
+  if (!fixed_bottom) e.handles.push_back(bottom);
+  e.handles.push_back(top);
+  return e;
+}
+
+double max_distance(const VertexData<Vec3>& a, const VertexData<Vec3>& b) {
+  double d = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, (a.raw()[i] - b.raw()[i]).norm());
+  return d;
+}
+
+TEST(Nonlinear, IdentityReturnsTheInputExactly) {
+  const Mesh mesh = Mesh::from_soup(make_capsule(0.5, 4.0, 16, 24));
+  for (int k : {1, 2, 3}) {
+    const Edit e = two_ended(mesh, k, true);
+    const EditSolver solver(mesh, e);
+    VertexData<Vec3> p = mesh.positions();
+    solver.evaluate(std::vector<Eigen::Affine3d>(1, Eigen::Affine3d::Identity()), p);
+    EXPECT_EQ(max_distance(p, mesh.positions()), 0.0) << "k = " << k;
+    EXPECT_TRUE(solver.nonlinear_state()->converged);
+  }
+}
+
+TEST(Nonlinear, RigidMotionOfEveryConstraintIsRigid) {
+  const Mesh mesh = Mesh::from_soup(make_capsule(0.5, 4.0, 16, 24));
+  Eigen::Affine3d t = Eigen::Translation3d(0.3, -1.0, 2.0) * Eigen::AngleAxisd(2.0, Vec3(1, 2, 3).normalized());
+  for (int k : {1, 2, 3}) {
+    const Edit e = two_ended(mesh, k, false);
+    const EditSolver solver(mesh, e);
+    VertexData<Vec3> p = mesh.positions();
+    solver.evaluate(std::vector<Eigen::Affine3d>(2, t), p);
+    VertexData<Vec3> expected = mesh.positions();
+    for (Vec3& x : expected.raw()) x = t * x;
+    EXPECT_LT(max_distance(p, expected), 1e-8) << "k = " << k;  // 115 degrees: linear BCM shears here
+  }
+}
+
+TEST(Nonlinear, DragConvergesToTheColdSolve) {
+  const Mesh mesh = Mesh::from_soup(make_capsule(0.5, 4.0, 16, 24));
+  const Edit e = two_ended(mesh, 2, true);
+  const EditSolver solver(mesh, e);
+  const Vec3 pivot(0, 0, 3.5);
+  VertexData<Vec3> drag = mesh.positions(), cold = mesh.positions();
+  Eigen::Affine3d t = Eigen::Affine3d::Identity();
+  for (int frame = 1; frame <= 10; ++frame) {  // 9 degrees per frame, a few iterations each
+    t = Eigen::Translation3d(pivot) * Eigen::AngleAxisd(frame * 0.05 * std::numbers::pi, Vec3::UnitY()) *
+        Eigen::Translation3d(-pivot);
+    const NonlinearState s = solver.evaluate_within(std::vector<Eigen::Affine3d>{t}, 1e9, drag);
+    EXPECT_GT(s.iterations, 0);
+  }
+  NonlinearState s = solver.refine(std::vector<Eigen::Affine3d>{t}, 1e9, drag);
+  EXPECT_TRUE(s.converged);
+  solver.evaluate(std::vector<Eigen::Affine3d>{t}, cold);
+  EXPECT_LT(max_distance(drag, cold), 1e-5);
+}
+
+// For a handle rotation eps, compare displacements: linear BCM's x(T) - x(I) (it is affine in
+// T; x(I) is its smooth fill, not the rest) against the nonlinear x(T) - rest. They differ by
+// the rotation of the rest's Laplacian coordinates, a first-order term in eps: the measured
+// rate is 2 per halving (not the quadratic rate the issue expected; docs/nonlinear.md).
+TEST(Nonlinear, SmallEditsDifferFromLinearBcmAtFirstOrder) {
+  const Mesh mesh = Mesh::from_soup(make_capsule(0.5, 4.0, 16, 24));
+  Edit e = two_ended(mesh, 2, true);
+  const EditSolver nonlinear(mesh, e);
+  e.deformation = Deformation::Linear;
+  const EditSolver linear(mesh, e);
+  VertexData<Vec3> fill = mesh.positions();
+  linear.evaluate(std::vector<Eigen::Affine3d>(1, Eigen::Affine3d::Identity()), fill);
+  std::vector<double> diff, motion;
+  for (double eps : {0.04, 0.02, 0.01}) {
+    const Eigen::Affine3d t = Eigen::Translation3d(Vec3(0, 0, 3.5)) * Eigen::AngleAxisd(eps, Vec3::UnitX()) *
+                              Eigen::Translation3d(Vec3(0, 0, -3.5));
+    VertexData<Vec3> a = mesh.positions(), b = mesh.positions();
+    nonlinear.evaluate(std::vector<Eigen::Affine3d>{t}, a);
+    linear.evaluate(std::vector<Eigen::Affine3d>{t}, b);
+    double d = 0, m = 0;
+    for (Vertex v : mesh.vertices()) {
+      const Vec3 da = a[v] - mesh.position(v), db = b[v] - fill[v];
+      d = std::max(d, (da - db).norm());
+      m = std::max(m, db.norm());
+    }
+    diff.push_back(d);
+    motion.push_back(m);
+    EXPECT_LT(d, 0.25 * m) << "eps " << eps;  // the same edit, up to the rotation of the detail
+  }
+  EXPECT_NEAR(diff[0] / diff[1], 2.0, 0.2);
+  EXPECT_NEAR(diff[1] / diff[2], 2.0, 0.2);
+}
+
+TEST(Nonlinear, IterationCapIsReported) {
+  const Mesh mesh = Mesh::from_soup(make_capsule(0.5, 4.0, 16, 24));
+  Edit e = two_ended(mesh, 2, true);
+  e.nonlinear.max_iterations = 2;
+  const EditSolver solver(mesh, e);
+  VertexData<Vec3> p = mesh.positions();
+  const Vec3 pivot(0, 0, 3.5);
+  solver.evaluate(std::vector<Eigen::Affine3d>{Eigen::Translation3d(pivot) * Eigen::AngleAxisd(2.0, Vec3::UnitY()) *
+                                               Eigen::Translation3d(-pivot)},
+                  p);
+  EXPECT_EQ(solver.nonlinear_state()->iterations, 2);
+  EXPECT_FALSE(solver.nonlinear_state()->converged);
+  EXPECT_EQ(solver.problems(p).non_finite, 0);
+}
+
+}  // namespace
