@@ -106,7 +106,11 @@ void to_transforms(py::handle obj, int n, Eigen::Affine3d* out, const char* name
   for (int i = 0; i < n; ++i) read(seq[static_cast<std::size_t>(i)], std::string(name) + "[" + std::to_string(i) + "]", out[i]);
 }
 
-std::string to_path(py::handle obj) { return py::module_::import("os").attr("fsdecode")(obj).cast<std::string>(); }
+std::string to_path(py::handle obj, const char* name) {
+  if (!PyUnicode_Check(obj.ptr()) && !PyBytes_Check(obj.ptr()) && !py::hasattr(obj, "__fspath__"))
+    throw py::type_error(std::string(name) + " must be a str, bytes or os.PathLike, got " + std::string(py::str(obj.get_type())));
+  return py::module_::import("os").attr("fsdecode")(obj).cast<std::string>();
+}
 
 py::array_t<double> positions_array(const Vec3* data, std::size_t n) {
   py::array_t<double> a({static_cast<py::ssize_t>(n), py::ssize_t{3}});

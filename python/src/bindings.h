@@ -43,8 +43,8 @@ std::vector<Tri> to_faces(py::handle obj, const char* name);
 // One 4x4 affine matrix per movable handle: a sequence of 4x4 arrays or one (m, 4, 4) array.
 // Writes `n` maps to `out`. TypeError / ValueError naming `name[i]`.
 void to_transforms(py::handle obj, int n, Eigen::Affine3d* out, const char* name);
-// os.fsdecode(obj): str, bytes or os.PathLike.
-std::string to_path(py::handle obj);
+// os.fsdecode(obj): str, bytes or os.PathLike; TypeError naming `name` otherwise.
+std::string to_path(py::handle obj, const char* name = "path");
 
 py::array_t<double> positions_array(const Vec3* data, std::size_t n);  // new n x 3 array
 py::array_t<std::int64_t> faces_array(const std::vector<Tri>& faces);          // new m x 3 array

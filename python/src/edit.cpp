@@ -14,7 +14,7 @@ void bind_edit(py::module_& m) {
           "from_dict",
           [](py::handle d, const Mesh& mesh, const std::string& name, py::handle base_dir) {
             const Json j = to_json(d, name);
-            const std::string base = base_dir.is_none() ? std::string() : to_path(base_dir);
+            const std::string base = base_dir.is_none() ? std::string() : to_path(base_dir, "base_dir");
             py::gil_scoped_release release;  // geodesic selectors run Dijkstra
             return PyEdit{parse_edit(j, mesh, name, base), mesh.n_vertices()};
           },
