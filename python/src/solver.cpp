@@ -109,32 +109,30 @@ class PySolver {
     py::gil_scoped_release release;
     const std::lock_guard lock(mutex_);
     solver_->evaluate(t, positions_);
-    for (Vertex v : solver_->touched()) {
-      const Vec3& p = positions_[v];
-      double* row = dst + 3 * static_cast<std::ptrdiff_t>(v.idx());
-      row[0] = p[0];
-      row[1] = p[1];
-      row[2] = p[2];
-    }
+    copy_touched(dst);
   }
 
   // Seconds of `n` C++ evaluate() calls (no Python in the loop): the benchmark's reference.
-  py::array_t<double> time_evaluate(int n, py::handle transforms) {
+  // With `copy`, each call also copies the touched rows to a private n x 3 array, as
+  // evaluate_into does.
+  py::array_t<double> time_evaluate(int n, py::handle transforms, bool copy) {
     if (n < 1) throw py::value_error("n must be >= 1");
     Buffer buf;
     const std::span<const Eigen::Affine3d> t = read(transforms, buf);
-    py::array_t<double> out(n);
-    double* dst = out.mutable_data();
+    py::array_t<double> seconds(n);
+    double* dst = seconds.mutable_data();
     {
       py::gil_scoped_release release;
       const std::lock_guard lock(mutex_);
+      std::vector<double> out(copy ? 3 * positions_.size() : 0);
       for (int i = 0; i < n; ++i) {
         const auto start = std::chrono::steady_clock::now();
         solver_->evaluate(t, positions_);
+        if (copy) copy_touched(out.data());
         dst[i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       }
     }
-    return out;
+    return seconds;
   }
 
   py::object stats() {
@@ -182,6 +180,20 @@ class PySolver {
     return {p, static_cast<std::size_t>(n)};
   }
 
+  // The touched rows of positions_ to dst (n x 3), split across threads like the frame itself.
+  void copy_touched(double* dst) const {
+    const std::vector<Vertex>& touched = solver_->touched();
+    const auto n = static_cast<std::ptrdiff_t>(touched.size());
+#pragma omp parallel for schedule(static) if (n > 16384)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      const Vec3& p = positions_[touched[static_cast<std::size_t>(i)]];
+      double* row = dst + 3 * static_cast<std::ptrdiff_t>(touched[static_cast<std::size_t>(i)].idx());
+      row[0] = p[0];
+      row[1] = p[1];
+      row[2] = p[2];
+    }
+  }
+
   std::shared_ptr<const Mesh> mesh_;
   std::unique_ptr<EditSolver> solver_;
   std::vector<Eigen::Affine3d> own_;  // the edit's own transforms
@@ -208,7 +220,9 @@ void bind_solver(py::module_& m) {
            "Like evaluate, but writes into `out` (float64, n x 3, C-contiguous) without allocating: only the "
            "rows of `touched` are written, the others keep what `out` holds (start from mesh.vertices).")
       .def("_time_evaluate", &PySolver::time_evaluate, py::arg("n"), py::arg("transforms") = py::none(),
-           "Seconds of each of n C++ evaluate() calls without Python in the loop (benchmarks).")
+           py::arg("copy") = false,
+           "Seconds of each of n C++ evaluate() calls without Python in the loop (benchmarks); copy=True adds "
+           "evaluate_into's copy of the touched rows.")
       .def_property_readonly("stats", &PySolver::stats,
                              "The report of the last frame as a dict: the keys of `freeform deform --report` "
                              "(counts, solver, timings_ms, residual, multiresolution, ...).")

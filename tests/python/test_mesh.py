@@ -94,3 +94,12 @@ def test_generators():
     bumpy = freeform.make_bumpy_plane(10, 10, 0.1, 1)
     assert np.ptp(bumpy.vertices[:, 2]) > 0.1
     assert "169 vertices" in repr(freeform.make_plane(12, 12))
+
+
+def test_sanitized_build_runs_under_the_sanitizers():
+    """Under the asan preset (FREEFORM_PYTHON_SANITIZED=1) the ASan runtime must really be loaded."""
+    import os
+    if os.environ.get("FREEFORM_PYTHON_SANITIZED") != "1":
+        pytest.skip("not the sanitizer build")
+    with open("/proc/self/maps") as maps:
+        assert "libasan" in maps.read()

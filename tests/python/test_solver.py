@@ -33,6 +33,8 @@ def test_solver_properties(plane, solver):
     with pytest.raises(IndexError, match="movable handle 1 out of range"):
         solver.handle_centroid(1)
     assert solver.mesh.n_vertices == plane.n_vertices
+    seconds = solver._time_evaluate(3, copy=True)  # the benchmark's C++ reference
+    assert seconds.shape == (3,) and (seconds > 0).all()
 
 
 def test_transform_forms_agree(solver):
