@@ -57,6 +57,9 @@ class PySolver {
     if (edit.n_vertices != mesh_->n_vertices())
       throw InvalidInput("the edit was resolved on a mesh with " + std::to_string(edit.n_vertices) +
                          " vertices, this mesh has " + std::to_string(mesh_->n_vertices()));
+    if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
+      throw py::type_error("progress must be None or a callable (stage, fraction), got " +
+                           std::string(py::str(progress.get_type())));
     ProgressBridge bridge(std::move(progress));
     {
       py::gil_scoped_release release;

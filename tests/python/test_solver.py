@@ -98,6 +98,8 @@ def test_raising_from_progress_cancels(plane, plane_edit):
     assert calls[-1] == "factorization"  # nothing was reported after the exception
     with pytest.raises(TypeError):
         freeform.EditSolver(plane, plane_edit, progress=lambda: None)  # wrong signature: its TypeError
+    with pytest.raises(TypeError, match=r"^progress must be None or a callable \(stage, fraction\), got <class 'int'>$"):
+        freeform.EditSolver(plane, plane_edit, progress=5)
 
 
 def test_solver_keeps_its_mesh_alive():
