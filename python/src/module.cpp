@@ -1,0 +1,13 @@
+// The Python module `freeform` (docs/python.md).
+#include "bindings.h"
+
+PYBIND11_MODULE(freeform, m) {
+  using namespace freeform::python;
+  m.doc() =
+      "Real-time freeform mesh modeling (Botsch & Kobbelt 2004): read a mesh and an edit, precompute an "
+      "EditSolver once, evaluate it per frame. See docs/python.md.";
+  bind_errors(m);
+  bind_mesh(m);
+  bind_edit(m);
+  bind_solver(m);
+}

@@ -1,0 +1,58 @@
+"""The module against the freeform command of the same build, on the demo edit (the armadillo's
+ear, README.md): bit-for-bit equal positions for the edit's own transform and for a new matrix.
+OFF keeps doubles exactly (shortest round-trip text), so the CLI's output is compared exactly."""
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import freeform
+from conftest import DATA_DIR, MESH_DIR, require_file
+
+
+@pytest.fixture(scope="module")
+def demo():
+    mesh = freeform.read_mesh(require_file(MESH_DIR / "armadillo.off"))
+    edit = freeform.read_edit(DATA_DIR / "edits" / "armadillo.json", mesh)
+    return mesh, edit, freeform.EditSolver(mesh, edit)
+
+
+def run_cli(cli, tmp_path, edit_path):
+    out, report = tmp_path / "out.off", tmp_path / "report.json"
+    subprocess.run([cli, "deform", str(MESH_DIR / "armadillo.off"), "--edit", str(edit_path), "-o", str(out),
+                    "--report", str(report)], check=True, capture_output=True, timeout=300)
+    return freeform.read_mesh(out).vertices, json.loads(report.read_text())
+
+
+def test_demo_deform_equals_the_cli(cli, tmp_path, demo):
+    mesh, edit, solver = demo
+    expected, report = run_cli(cli, tmp_path, DATA_DIR / "edits" / "armadillo.json")
+    deformed = freeform.deform(mesh, edit)
+    assert np.array_equal(deformed, expected)
+    assert np.array_equal(solver.evaluate(), expected)
+    out = mesh.vertices
+    solver.evaluate_into(out)
+    assert np.array_equal(out, expected)
+    assert not np.array_equal(deformed, mesh.vertices)
+    # solver.stats has the report's keys but the CLI's own (paths, repeats, memory)
+    cli_only = {"input", "output", "edit", "evaluate_repeats", "peak_memory_mb"}
+    assert list(solver.stats) == [k for k in report if k not in cli_only]
+    assert solver.stats["counts"] == report["counts"]
+    assert solver.stats["multiresolution"].keys() == report["multiresolution"].keys() - {"reconstruct_repeats"}
+
+
+def test_new_matrix_equals_the_cli(cli, tmp_path, demo):
+    mesh, edit, solver = demo
+    a = np.radians(20.0)
+    m = np.eye(4)
+    m[:3, :3] = [[np.cos(a), 0, np.sin(a)], [0, 1, 0], [-np.sin(a), 0, np.cos(a)]]
+    c = solver.handle_centroid(0)
+    m[:3, 3] = c - m[:3, :3] @ c + [1.0 / 3.0, 4.0, -2.5]
+    d = json.loads((DATA_DIR / "edits" / "armadillo.json").read_text())
+    d["handles"][0]["transform"] = {"matrix": m.tolist()}
+    path = tmp_path / "matrix.json"
+    path.write_text(json.dumps(d))  # repr of floats: exact
+    expected, _ = run_cli(cli, tmp_path, path)
+    assert np.array_equal(solver.evaluate([m]), expected)
+    assert np.array_equal(freeform.deform(mesh, freeform.Edit.from_dict(d, mesh)), expected)

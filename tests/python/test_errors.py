@@ -1,0 +1,127 @@
+"""Every error path: the exception type and the message (the C++ message for library errors,
+the argument's name for wrong types and shapes)."""
+import numpy as np
+import pytest
+
+import freeform
+from conftest import plane_edit_dict, translation
+
+TRIANGLE = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+
+
+def test_hierarchy():
+    assert issubclass(freeform.Error, ValueError)
+    assert issubclass(freeform.IoError, OSError) and issubclass(freeform.IoError, freeform.Error)
+    assert issubclass(freeform.TopologyError, freeform.Error) and issubclass(freeform.SolverError, freeform.Error)
+
+
+@pytest.mark.parametrize("vertices,faces,error,message", [
+    (np.zeros((3, 2)), [[0, 1, 2]], ValueError, r"^vertices must have shape \(n, 3\), got \(3, 2\)$"),
+    (np.zeros(9), [[0, 1, 2]], ValueError, r"^vertices must have shape \(n, 3\), got \(9,\)$"),
+    (np.zeros((3, 3), complex), [[0, 1, 2]], TypeError, r"^vertices must be an array of real numbers, got dtype complex128$"),
+    ("abc", [[0, 1, 2]], TypeError, r"^vertices must be an array of real numbers, got dtype <U3$"),
+    (None, [[0, 1, 2]], TypeError, r"^vertices must be an array of real numbers, got dtype object$"),
+    (TRIANGLE, [[0.0, 1.0, 2.0]], TypeError, r"^faces must be an array of integers, got dtype float64$"),
+    (TRIANGLE, np.array([[True, False, True]]), TypeError, r"^faces must be an array of integers, got dtype bool$"),
+    (TRIANGLE, [[0, 1, 2, 0]], ValueError, r"^faces must have shape \(m, 3\), got \(1, 4\)$"),
+    (TRIANGLE, [[0, 1, 3]], freeform.Error, r"^face 0 references vertex 3, but the mesh has 3 vertices$"),
+    (TRIANGLE, [[0, 1, -1]], freeform.Error, r"^face 0 references vertex -1, but the mesh has 3 vertices$"),
+    (TRIANGLE, [[0, 1, 2**40]], freeform.Error, r"^faces: face 0 references vertex 1099511627776, which is out of range$"),
+    ([[0, 0, 0], [1, np.nan, 0], [0, 1, 0]], [[0, 1, 2]], freeform.Error, r"^vertex 1 has a non-finite coordinate$"),
+    ([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], [[0, 1, 2], [0, 1, 3], [0, 1, 3]], freeform.TopologyError, "repair"),
+])
+def test_mesh_arguments(vertices, faces, error, message):
+    with pytest.raises(error, match=message):
+        freeform.Mesh(vertices, faces)
+
+
+def test_io_errors(tmp_path, plane):
+    with pytest.raises(freeform.IoError, match=r"nothing\.off: cannot open for reading: No such file") as e:
+        freeform.read_mesh(tmp_path / "nothing.off")
+    assert isinstance(e.value, OSError)
+    bad = tmp_path / "bad.off"
+    bad.write_text("OFF\n3 1 0\n0 0 0\n1 0 0\n")
+    with pytest.raises(freeform.IoError, match=r"bad\.off:4: unexpected end of file: header declares 3 vertices, found 2$"):
+        freeform.read_mesh(bad)
+    with pytest.raises(freeform.IoError, match=r"unknown mesh file extension"):
+        freeform.read_mesh(tmp_path / "mesh.xyz")
+    with pytest.raises(freeform.IoError, match=r"cannot create temporary file"):
+        freeform.write_mesh(tmp_path / "missing" / "a.off", plane)
+    with pytest.raises(freeform.Error, match=r"^cannot write mesh: face 0 has vertex index 5 out of range \(3 vertices\)$"):
+        freeform.write_mesh(tmp_path / "a.off", TRIANGLE, [[0, 1, 5]])
+    assert list(tmp_path.iterdir()) == [bad]  # nothing half-written
+    with pytest.raises(TypeError, match="faces missing"):
+        freeform.write_mesh(tmp_path / "a.off", TRIANGLE)
+    with pytest.raises(TypeError, match=r"^path must be a str, bytes or os.PathLike, got <class 'int'>$"):
+        freeform.read_mesh(5)
+
+
+def test_edit_file_errors(tmp_path, plane):
+    with pytest.raises(freeform.IoError, match=r"none\.json: cannot open for reading"):
+        freeform.read_edit(tmp_path / "none.json", plane)
+    bad = tmp_path / "bad.json"
+    bad.write_text('{\n  "order": 2,\n  "support": }\n')
+    with pytest.raises(freeform.IoError, match=r"bad\.json:3: malformed JSON at column 14"):
+        freeform.read_edit(bad, plane)
+    bad.write_text('{"support": {"vertices": [1]}, "support": {"vertices": [2]}}')
+    with pytest.raises(freeform.Error, match=r'bad\.json: .*"support"'):
+        freeform.read_edit(bad, plane)
+
+
+def test_solver_errors(plane, plane_edit):
+    other = freeform.make_plane(4, 4)
+    message = r"^the edit was resolved on a mesh with 169 vertices, this mesh has 25$"
+    with pytest.raises(freeform.Error, match=message):
+        freeform.EditSolver(other, plane_edit)
+    with pytest.raises(freeform.Error, match=message):
+        freeform.deform(other, plane_edit)
+    whole = freeform.Edit.from_dict({"support": {"vertices": list(range(plane.n_vertices))}}, plane)
+    with pytest.raises(freeform.Error, match=r"^the support covers a whole component of the mesh"):
+        freeform.EditSolver(plane, whole)
+    with pytest.raises(TypeError):
+        freeform.EditSolver(plane.vertices, plane_edit)
+
+
+def test_transform_errors(solver):
+    cases = [
+        ([np.eye(4)] * 2, ValueError, r"^transforms has 2 entries, the solver has 1 movable handles"),
+        ([], ValueError, r"^transforms has 0 entries"),
+        (np.eye(4), ValueError, r"^transforms has 4 entries"),
+        (np.zeros((2, 4, 4)), ValueError, r"^transforms must have shape \(1, 4, 4\) \(one matrix per movable handle\), got \(2, 4, 4\)$"),
+        ([np.eye(3)], ValueError, r"^transforms\[0\] must have shape \(4, 4\), got \(3, 3\)$"),
+        ([np.eye(4, dtype=complex)], TypeError, r"^transforms\[0\] must be an array of real numbers, got dtype complex128$"),
+        (["abc"], TypeError, r"^transforms\[0\] must be an array of real numbers, got dtype <U3$"),
+        (5, TypeError, r"^transforms must be a list of 4x4 arrays \(one per movable handle\), got <class 'int'>$"),
+        ("abcd", TypeError, r"^transforms must be a list of 4x4 arrays"),
+        ([np.ones((4, 4))], freeform.Error, r"^transforms\[0\]: the last row must be 0 0 0 1 \(an affine map\)$"),
+        ([np.diag([np.inf, 1, 1, 1])], freeform.Error, r"^evaluate: transform 0 is not finite$"),
+    ]
+    for transforms, error, message in cases:
+        for call in (lambda: solver.evaluate(transforms), lambda: solver.evaluate_into(solver.mesh.vertices, transforms)):
+            with pytest.raises(error, match=message):
+                call()
+    with pytest.raises(ValueError, match=r"^n must be >= 1$"):
+        solver._time_evaluate(0)
+
+
+def test_out_errors(solver):
+    n = solver.n_vertices
+    t = [translation(0, 0, 0.1)]
+    cases = [
+        (np.zeros((n, 3), np.float32), TypeError, r"^out must be a float64 numpy array, got float32$"),
+        (np.zeros((n, 3)).tolist(), TypeError, r"^out must be a float64 numpy array, got <class 'list'>$"),
+        (np.zeros((n, 3), ">f8"), TypeError, r"^out must be a float64 numpy array, got >f8$"),
+        (np.zeros((n, 4)), ValueError, rf"^out must have shape \({n}, 3\), got \({n}, 4\)$"),
+        (np.zeros((n + 1, 3)), ValueError, rf"^out must have shape \({n}, 3\)"),
+        (np.zeros(3 * n), ValueError, rf"^out must have shape \({n}, 3\), got \({3 * n},\)$"),
+        (np.zeros((n, 6))[:, ::2], ValueError, r"^out must be C-contiguous and writeable"),
+        (np.asfortranarray(np.zeros((n, 3))), ValueError, r"^out must be C-contiguous and writeable"),
+    ]
+    readonly = np.zeros((n, 3))
+    readonly.flags.writeable = False
+    cases.append((readonly, ValueError, r"^out must be C-contiguous and writeable"))
+    for out, error, message in cases:
+        before = np.array(out, copy=True)
+        with pytest.raises(error, match=message):
+            solver.evaluate_into(out, t)
+        assert np.array_equal(np.asarray(out), before)  # untouched

@@ -1,0 +1,185 @@
+"""EditSolver: evaluate / evaluate_into, transforms, progress and cancellation, lifetimes,
+threads, reference counts and memory over many frames."""
+import gc
+import subprocess
+import sys
+import threading
+import tracemalloc
+
+import numpy as np
+import pytest
+
+import freeform
+from conftest import plane_edit_dict, translation
+
+
+def test_default_frame_is_deform(plane, plane_edit, solver):
+    expected = freeform.deform(plane, plane_edit)
+    assert np.array_equal(solver.evaluate(), expected)
+    assert np.array_equal(solver.evaluate(solver.transforms), expected)
+    assert np.isfinite(expected).all() and not np.array_equal(expected, plane.vertices)
+
+
+def test_identity_reproduces_the_rest_shape(plane, solver):
+    assert np.allclose(solver.evaluate([np.eye(4)]), plane.vertices, rtol=0, atol=1e-12)
+
+
+def test_solver_properties(plane, solver):
+    assert (solver.n_vertices, solver.n_movable) == (plane.n_vertices, 1)
+    assert len(solver.transforms) == 1 and solver.transforms[0].shape == (4, 4)
+    touched = solver.touched
+    assert touched.dtype == np.int64 and np.all(np.diff(touched) > 0) and 80 not in touched
+    assert np.allclose(solver.handle_centroid(0), [0.5, 0.5, 0.0])
+    with pytest.raises(IndexError, match="movable handle 1 out of range"):
+        solver.handle_centroid(1)
+    assert solver.mesh.n_vertices == plane.n_vertices
+    seconds = solver._time_evaluate(3, copy=True)  # the benchmark's C++ reference
+    assert seconds.shape == (3,) and (seconds > 0).all()
+
+
+def test_transform_forms_agree(solver):
+    m = translation(0.1, -0.2, 0.3)
+    m[:3, :3] = [[0.9, 0.1, 0], [-0.1, 0.9, 0], [0, 0, 1.1]]
+    expected = solver.evaluate([m])
+    strided = np.zeros((4, 8))
+    strided[:, ::2] = m
+    for t in ([m], (m,), m[None], [m.tolist()], [np.asfortranarray(m)], [strided[:, ::2]], [m.astype(">f8")]):
+        assert np.array_equal(solver.evaluate(t), expected)
+    m32 = m.astype(np.float32)
+    assert np.array_equal(solver.evaluate([m32]), solver.evaluate([m32.astype(np.float64)]))
+
+
+def test_evaluate_into_writes_the_touched_rows(plane, solver):
+    t = [translation(0, 0, -0.3)]
+    out = plane.vertices
+    assert solver.evaluate_into(out, t) is None
+    assert np.array_equal(out, solver.evaluate(t))
+    marked = np.full((plane.n_vertices, 3), np.nan)
+    solver.evaluate_into(marked, t)
+    written = np.flatnonzero(np.isfinite(marked).all(axis=1))
+    assert np.array_equal(written, solver.touched)
+
+
+def test_stats_and_problems(solver):
+    stats = solver.stats
+    assert stats["vertices"] == 169 and stats["faces"] == 288 and stats["order"] == 2
+    assert stats["counts"]["handles"] == [{"vertices": 5, "movable": True}, {"vertices": 1, "movable": False}]
+    assert stats["counts"]["free"] + stats["counts"]["fixed"] + 6 == 169
+    assert stats["timings_ms"]["evaluate"] >= 0 and stats["multiresolution"]["normal_encoded"] >= 0
+    assert solver.problems() == {"ok": True, "non_finite": 0, "first_non_finite": None, "folded_edges": 0,
+                                 "flipped_triangles": 0, "overlaps": 0}
+    solver.evaluate([translation(0, 0, 2.0)])  # pulled far out of the plane: the frame folds
+    assert solver.problems()["folded_edges"] > 0 and solver.stats["folded_edges"] > 0
+
+
+def test_progress_reports_stages(plane, plane_edit):
+    seen = []
+    freeform.EditSolver(plane, plane_edit, progress=lambda stage, fraction: seen.append((stage, fraction)))
+    stages = [s for s, _ in seen]
+    fractions = [f for _, f in seen]
+    assert {"assembly", "factorization", "basis"} <= set(stages)
+    assert fractions == sorted(fractions) and 0 <= fractions[0] and fractions[-1] <= 1
+
+
+class Stop(Exception):
+    pass
+
+
+def test_raising_from_progress_cancels(plane, plane_edit):
+    calls = []
+
+    def progress(stage, fraction):
+        calls.append(stage)
+        if stage == "factorization":
+            raise Stop("user pressed cancel")
+
+    with pytest.raises(Stop, match="user pressed cancel"):
+        freeform.EditSolver(plane, plane_edit, progress=progress)
+    assert calls[-1] == "factorization"  # nothing was reported after the exception
+    with pytest.raises(TypeError):
+        freeform.EditSolver(plane, plane_edit, progress=lambda: None)  # wrong signature: its TypeError
+    with pytest.raises(TypeError, match=r"^progress must be None or a callable \(stage, fraction\), got <class 'int'>$"):
+        freeform.EditSolver(plane, plane_edit, progress=5)
+
+
+def test_solver_keeps_its_mesh_alive():
+    mesh = freeform.make_plane(12, 12)
+    rest = mesh.vertices
+    solver = freeform.EditSolver(mesh, freeform.Edit.from_dict(plane_edit_dict(), mesh))
+    del mesh
+    gc.collect()
+    assert np.array_equal(solver.mesh.vertices, rest)
+    frame = solver.evaluate()
+    del solver
+    gc.collect()
+    assert np.isfinite(frame).all() and frame.flags.owndata  # arrays own their memory
+
+
+def test_threads_share_a_solver(solver):
+    shifts = [translation(0, 0, 0.05 * i) for i in range(4)]
+    expected = [solver.evaluate([t]) for t in shifts]
+    errors = []
+
+    def run(i):
+        out = solver.mesh.vertices
+        for _ in range(100):
+            solver.evaluate_into(out, [shifts[i]])
+            if not np.array_equal(out, expected[i]) or not np.array_equal(solver.evaluate([shifts[i]]), expected[i]):
+                errors.append(i)
+
+    threads = [threading.Thread(target=run, args=(i,)) for i in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors
+
+
+def test_reference_counts_and_memory_stable_over_10000_frames(plane, solver):
+    out = plane.vertices
+    m = translation(0, 0, 0.1)
+    transforms = [m]
+    stacked = m[None].copy()
+    for _ in range(100):  # warm up caches (numpy, pybind11 type info)
+        solver.evaluate_into(out, transforms)
+        solver.evaluate(stacked)
+    gc.collect()
+    objects = (out, m, transforms, stacked, solver, None)
+    before = [sys.getrefcount(o) for o in objects]
+    tracemalloc.start()
+    start, _ = tracemalloc.get_traced_memory()
+    for i in range(10_000):
+        solver.evaluate_into(out, transforms)
+        frame = solver.evaluate(stacked if i % 2 else None)
+    del frame
+    gc.collect()
+    end, _ = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    assert [sys.getrefcount(o) for o in objects] == before
+    assert end - start < 16 * 1024, f"{end - start} bytes more after 10,000 frames"
+
+
+def test_dev_mode_subprocess(tmp_path):
+    """A short session under python -X dev: errors, frames, garbage collection, clean exit."""
+    script = """
+import gc, numpy as np, freeform
+mesh = freeform.make_plane(6, 6)
+edit = freeform.Edit.from_dict({"support": {"sphere": {"center": [0.5, 0.5, 0], "radius": 0.4}},
+    "handles": [{"region": {"sphere": {"center": [0.5, 0.5, 0], "radius": 0.1}}}]}, mesh)
+solver = freeform.EditSolver(mesh, edit, progress=lambda s, f: None)
+out = mesh.vertices
+for bad in ([np.eye(3)], [np.eye(4)] * 2, "x", [np.full((4, 4), np.nan)]):
+    try:
+        solver.evaluate_into(out, bad)
+    except (TypeError, ValueError):
+        pass
+for _ in range(100):
+    solver.evaluate_into(out, [np.eye(4)])
+del mesh, edit
+gc.collect()
+print(solver.evaluate().shape)
+"""
+    run = subprocess.run([sys.executable, "-X", "dev", "-W", "error", "-c", script], capture_output=True, text=True,
+                         timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == "(49, 3)" and run.stderr == ""
