@@ -183,3 +183,21 @@ print(solver.evaluate().shape)
                          timeout=120)
     assert run.returncode == 0, run.stderr
     assert run.stdout.strip() == "(49, 3)" and run.stderr == ""
+
+
+def test_nonlinear_model_reports_its_iterations(plane):
+    d = plane_edit_dict()
+    d["deformation"] = "nonlinear"
+    d["nonlinear"] = {"max_iterations": 50, "tolerance": 1e-6}
+    edit = freeform.Edit.from_dict(d, plane)
+    assert edit.to_dict()["deformation"] == "nonlinear"
+    solver = freeform.EditSolver(plane, edit)
+    out = solver.evaluate()
+    assert np.isfinite(out).all()
+    stats = solver.stats
+    assert stats["deformation"] == "nonlinear"
+    assert stats["nonlinear"]["converged"] is True
+    assert 1 <= stats["nonlinear"]["iterations"] <= 50
+    assert np.array_equal(out, freeform.deform(plane, edit))  # a cold solve is deterministic
+    linear = freeform.EditSolver(plane, freeform.Edit.from_dict(plane_edit_dict(), plane))
+    assert linear.stats["nonlinear"] is None
