@@ -222,6 +222,8 @@ void App::panel_parameters() {
   ImGui::SameLine();
   ImGui::Checkbox("multiresolution", &p.multiresolution);
   help_marker("Keep the surface detail while the base deforms (docs/multires.md)");
+  ImGui::Checkbox("nonlinear", &p.nonlinear);
+  help_marker("Rotation-aware: large twists and bends keep their volume (docs/nonlinear.md); iterates a few ms per frame");
   if (slider_done) {
     p.outer = param_edit_.outer;
     p.inner = param_edit_.inner;
@@ -249,6 +251,12 @@ void App::panel_parameters() {
       if (ImGui::SmallButton("Recompute")) attempt("recompute", [&] { doc_.recompute(); });
     } else if (doc_.solver_current() && doc_.solver()) {
       ImGui::TextDisabled("solver ready%s", doc_.solver()->multiresolution() ? " (multiresolution)" : "");
+      if (doc_.solver()->solver().nonlinear_state()) {
+        const FrameTimings& f = doc_.last_timings();
+        ImGui::SameLine();
+        ImGui::TextDisabled("| nonlinear: %d iterations, residual %.1e%s", f.iterations, f.residual,
+                            f.converged ? "" : " (refining)");
+      }
       // Folds and flattened detail, so a problem shows without rendering a close-up; not during
       // a drag (O(support) per check), the last count stays.
       if (!tools_.transforming()) shown_problems_ = doc_.display_problems();

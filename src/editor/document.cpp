@@ -374,12 +374,18 @@ FrameTimings Document::update_display() {
       const HandleState* h = state_.find_handle(ids[m]);
       transforms_[m] = h && h->movable ? state_.transform(ids[m], *rest_) : Eigen::Affine3d::Identity();
     }
-    t = solver_->evaluate(transforms_, display_);
+    const bool same = refining_ && refined_transforms_.size() == transforms_.size() &&
+                      std::equal(transforms_.begin(), transforms_.end(), refined_transforms_.begin(),
+                                 [](const Eigen::Affine3d& a, const Eigen::Affine3d& b) { return a.matrix() == b.matrix(); });
+    const int before = timings_.iterations;
+    t = solver_->evaluate(transforms_, display_, same);
+    refining_ = !t.converged && (!same || t.iterations != before);  // stops at the iteration cap
+    refined_transforms_ = transforms_;
   }
   t.evaluated = true;
   t.total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   timings_ = t;
-  display_stale_ = false;
+  display_stale_ = refining_;
   ++display_version_;
   return t;
 }

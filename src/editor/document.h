@@ -183,6 +183,9 @@ class Document {
   std::vector<Eigen::Affine3d> transforms_;
   bool base_valid_ = false;     // display_ holds the rest positions outside the solver's reach
   bool display_stale_ = true;   // re-evaluate on the next update_display
+  // The nonlinear model has not converged for transforms_ yet: the next updates continue it.
+  bool refining_ = false;
+  std::vector<Eigen::Affine3d> refined_transforms_;
   FrameTimings timings_;
   std::uint64_t display_version_ = 0;
   std::uint64_t display_reset_version_ = 0;

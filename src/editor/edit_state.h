@@ -23,6 +23,7 @@ struct EditParameters {
   double inner = 2.0;          // smoothness at the handles, [0, k-1]
   bool anisotropic = false;
   bool multiresolution = true;
+  bool nonlinear = false;      // the nonlinear model (large rotations, docs/nonlinear.md)
   bool operator==(const EditParameters&) const = default;
 };
 

@@ -16,10 +16,12 @@ PreparedSolver::PreparedSolver(const PrecomputeRequest& request, const Progress&
   solver_ = std::make_unique<EditSolver>(*rest_, request.edit, progress);
 }
 
-FrameTimings PreparedSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
-  solver_->evaluate(transforms, positions);
+FrameTimings PreparedSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
+                                      bool refine) const {
+  const NonlinearState s = refine ? solver_->refine(transforms, kNonlinearFrameBudgetMs, positions)
+                                  : solver_->evaluate_within(transforms, kNonlinearFrameBudgetMs, positions);
   const EditTimings& e = solver_->last_timings();
-  return {e.evaluate_ms, e.reconstruction_ms, e.evaluate_ms + e.reconstruction_ms, true};
+  return {e.evaluate_ms, e.reconstruction_ms, e.evaluate_ms + e.reconstruction_ms, true, s.iterations, s.step, s.converged};
 }
 
 PrecomputeJob::~PrecomputeJob() {

@@ -29,7 +29,16 @@ struct FrameTimings {
   double reconstruction_ms = 0;  // multires detail reconstruction; 0 without multires
   double total_ms = 0;           // the whole update (copies and transforms included)
   bool evaluated = false;        // false: nothing changed, nothing was computed
+  // The nonlinear model: iterations of this frame's solve so far, its residual, and whether
+  // it converged (always true for the linear model).
+  int iterations = 0;
+  double residual = 0;
+  bool converged = true;
 };
+
+// Per-frame time the nonlinear model may iterate (a drag stays interactive; it keeps
+// converging on the next frames when the mouse stops).
+inline constexpr double kNonlinearFrameBudgetMs = 20.0;
 
 struct PrecomputeRequest {
   std::shared_ptr<const Mesh> rest;  // the rest mesh, shared and never modified
@@ -61,7 +70,10 @@ class PreparedSolver {
 
   // Writes the free and movable-handle vertices of `positions` (#V, start from the rest
   // positions). One transform per movable index. Throws InvalidInput on a wrong count.
-  FrameTimings evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
+  // The nonlinear model iterates for kNonlinearFrameBudgetMs, from the last frame's solution;
+  // `refine`: the transforms did not change, continue that solve (up to its iteration cap).
+  FrameTimings evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
+                        bool refine = false) const;
 
  private:
   std::shared_ptr<const Mesh> rest_;

@@ -107,7 +107,7 @@ class Reader : JsonReader {
 
   EditParameters parameters(const Json& j, const std::string& p) const {
     object(j, p);
-    keys(j, p, {"order", "outer", "inner", "anisotropic", "multiresolution"});
+    keys(j, p, {"order", "outer", "inner", "anisotropic", "multiresolution", "nonlinear"});
     EditParameters e;
     if (j.contains("order")) {
       const long long k = integer(j["order"], at(p, "order"));
@@ -125,6 +125,7 @@ class Reader : JsonReader {
     }
     if (j.contains("anisotropic")) e.anisotropic = boolean(j["anisotropic"], at(p, "anisotropic"));
     if (j.contains("multiresolution")) e.multiresolution = boolean(j["multiresolution"], at(p, "multiresolution"));
+    if (j.contains("nonlinear")) e.nonlinear = boolean(j["nonlinear"], at(p, "nonlinear"));
     return e;
   }
 
@@ -191,7 +192,8 @@ std::string session_text(const Session& s) {
                   {"outer", s.current.parameters().outer},
                   {"inner", s.current.parameters().inner},
                   {"anisotropic", s.current.parameters().anisotropic},
-                  {"multiresolution", s.current.parameters().multiresolution}}}};
+                  {"multiresolution", s.current.parameters().multiresolution},
+                  {"nonlinear", s.current.parameters().nonlinear}}}};
   Json support = Json::array();
   for (int v = 0; v < s.current.n_vertices(); ++v)
     if (s.current.support_flag(Vertex(v))) support.push_back(v);

@@ -43,11 +43,12 @@ Manipulator moved(const Vec3& pivot) {
 }
 
 // Support disc, a movable handle in its middle, an immovable one beside it; the handle moved.
-int setup(Document& doc, bool multires = true) {
+int setup(Document& doc, bool multires = true, bool nonlinear = false) {
   doc.open_mesh(Mesh::from_soup(make_bumpy_plane(20, 20, 0.05, 2.0)), "");
   const Mesh& m = doc.rest_mesh();
   EditParameters p;
   p.multiresolution = multires;
+  p.nonlinear = nonlinear;
   doc.set_parameters(p);
   doc.set_region(PaintMode::Support, disc(m, Vec3(0.5, 0.5, 0), 0.4), false);
   doc.set_region(PaintMode::Handle, disc(m, Vec3(0.5, 0.5, 0), 0.1), false);
@@ -69,6 +70,29 @@ TEST(Document, DisplayEqualsDeformOfTheEdit) {
     const Mesh expected = deform(doc.rest_mesh(), doc.state().to_edit(doc.rest_mesh()));
     EXPECT_LE(max_diff(doc.display_positions(), expected.positions()), 1e-12);
     EXPECT_GT(max_diff(doc.display_positions(), doc.rest_mesh().positions()), 0.05);  // it moved
+  }
+}
+
+// The nonlinear model in the editor: each display update iterates within its frame budget and
+// asks for another update until converged; the converged display is the edit's deform().
+TEST(Document, NonlinearDisplayRefinesUntilItEqualsDeform) {
+  for (const bool multires : {true, false}) {
+    Document doc;
+    setup(doc, multires, true);
+    int updates = 1;
+    while (!doc.last_timings().converged && updates < 1000) {
+      doc.update_display();
+      ++updates;
+    }
+    EXPECT_TRUE(doc.last_timings().converged);
+    EXPECT_GT(doc.last_timings().iterations, 0);
+    const FrameTimings idle = doc.update_display();  // converged: nothing more to compute
+    EXPECT_FALSE(idle.evaluated);
+    const Edit edit = doc.state().to_edit(doc.rest_mesh());
+    ASSERT_EQ(edit.deformation, Deformation::Nonlinear);
+    const Mesh expected = deform(doc.rest_mesh(), edit);
+    EXPECT_LE(max_diff(doc.display_positions(), expected.positions()), 1e-4);
+    EXPECT_GT(max_diff(doc.display_positions(), doc.rest_mesh().positions()), 0.05);
   }
 }
 
