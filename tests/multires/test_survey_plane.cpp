@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -150,6 +151,35 @@ TEST_P(SurveyPlane, SBendKeepsTheBumpsWithoutFolds) {
     ASSERT_NEAR(rest, kHeight, 1e-9);
     errors.push_back(std::abs(height(s.mesh, base, out, a) - rest) / rest);
   }
+  std::sort(errors.begin(), errors.end());
+  EXPECT_LE(errors[errors.size() / 2], 0.02) << "median apex height error, k = " << k;
+  EXPECT_LE(errors.back(), 0.05) << "max apex height error, k = " << k;
+}
+
+// The same S-bend with the nonlinear model (docs/nonlinear.md): the base rotates with the bend,
+// the detail rides along; the same bounds hold, the apex heights against the nonlinear bend of
+// the flat plane.
+TEST_P(SurveyPlane, NonlinearSBendKeepsTheBumpsWithoutFolds) {
+  const int k = GetParam();
+  Survey s = survey(k, true);
+  s.edit.deformation = Deformation::Nonlinear;
+  const EditSolver solver(s.mesh, s.edit);
+  Mesh out = s.mesh;
+  solver.evaluate(solver.transforms(s.edit), out.positions());
+  ASSERT_TRUE(solver.nonlinear_state()->converged);
+  std::printf("nonlinear S-bend k=%d: %d iterations, %.0f ms\n", k, solver.nonlinear_state()->iterations,
+              solver.nonlinear_state()->ms);
+  Survey flat = survey(k, false, false);
+  flat.edit.deformation = Deformation::Nonlinear;
+  const Mesh base = deform(flat.mesh, flat.edit);
+  write_for_rendering(s, out, "survey-nonlinear-k" + std::to_string(k));
+  // k = 2: the nonlinear base bends tighter next to the fixed strip than linear BCM does (it
+  // keeps lengths, like an elastic strip), tighter than the first row of bumps is tall: 28
+  // folded edges there, measured; a known gap (docs/nonlinear.md), bounded here.
+  EXPECT_LE(folded_edges(s.mesh, out), k == 2 ? 40 : 0) << "k = " << k;
+  EXPECT_EQ(solver.problems(out.positions()).non_finite, 0);
+  std::vector<double> errors;
+  for (Vertex a : s.apexes) errors.push_back(std::abs(height(s.mesh, base, out, a) - kHeight) / kHeight);
   std::sort(errors.begin(), errors.end());
   EXPECT_LE(errors[errors.size() / 2], 0.02) << "median apex height error, k = " << k;
   EXPECT_LE(errors.back(), 0.05) << "max apex height error, k = " << k;
