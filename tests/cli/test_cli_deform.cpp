@@ -150,6 +150,46 @@ TEST(CliDeform, SelDefPair) {
   EXPECT_FALSE(std::filesystem::exists(s.dir / "bad.obj"));
 }
 
+// --deformation nonlinear (also with --sel/--def) runs the nonlinear model and reports its
+// iterations; the iteration cap is reported on stderr; a bad model name is a usage error.
+TEST(CliDeform, NonlinearModelFromTheCommandLine) {
+  const Workspace s;
+  const auto report = s.dir / "report.json";
+  const auto edit = s.edit(kGoodEdit);
+  CliRun r = freeform_cli("deform " + q(s.mesh) + " --edit " + q(edit) + " --deformation nonlinear -o " +
+                          q(s.dir / "out.off") + " --report " + q(report));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("nonlinear: "));
+  const auto j = nlohmann::json::parse(slurp(report));
+  EXPECT_EQ(j["deformation"], "nonlinear");
+  EXPECT_TRUE(j["nonlinear"]["converged"].get<bool>());
+  EXPECT_GE(j["nonlinear"]["iterations"].get<int>(), 1);
+  EXPECT_EQ(j["evaluate_repeats"], 1);
+
+  std::string capped = kGoodEdit;
+  capped.replace(capped.find("\"order\": 2"), 10, R"("order": 2, "nonlinear": {"max_iterations": 1, "tolerance": 1e-12})");
+  r = freeform_cli("deform " + q(s.mesh) + " --edit " + q(s.edit(capped, "capped.json")) +
+                   " --deformation nonlinear -o " + q(s.dir / "capped.off"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("stopped at its cap of 1 iterations"));
+
+  std::string sel;
+  for (int i = 0; i < 441; ++i) {
+    const int x = i % 21, y = i / 21;
+    sel += (x == 10 && y == 10) ? "2\n" : (x > 4 && x < 16 && y > 4 && y < 16) ? "1\n" : "0\n";
+  }
+  write_text(s.dir / "g.sel", sel);
+  write_text(s.dir / "g.def", "1 0 0 0\n0 1 0 0\n0 0 1 0.3\n0 0 0 1\n");
+  r = freeform_cli("deform " + q(s.mesh) + " --sel " + q(s.dir / "g.sel") + " --def " + q(s.dir / "g.def") +
+                   " --deformation nonlinear -o " + q(s.dir / "sel.off"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NEAR(read_mesh((s.dir / "sel.off").string()).soup.positions[10 * 21 + 10].z(), 0.3, 1e-12);
+
+  r = freeform_cli("deform " + q(s.mesh) + " --edit " + q(edit) + " --deformation rigid -o " + q(s.dir / "x.off"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_FALSE(std::filesystem::exists(s.dir / "x.off"));
+}
+
 // Every bad edit: exit 1, a message that says what is wrong, and no output at all.
 TEST(CliDeform, BadEditsExitOneAndWriteNothing) {
   const std::vector<std::pair<std::string, std::string>> cases = {
