@@ -1,8 +1,11 @@
-// Survey-like test shapes and the measurements of the nonlinear issue (Botsch & Sorkine's
+// Survey-like shapes, edits and measurements of the nonlinear issue (Botsch & Sorkine's
 // deformation survey, rebuilt from its description): a closed square bar, a closed capsule
-// ("cylinder"), and per-face / per-edge quality measures computed here from the face list.
+// ("cylinder"), libcgal-demo's cactus with their edits, and per-face quality measures
+// computed here from the face list.
 #pragma once
 
+#include "freeform/edit/edit.h"
+#include "freeform/io/mesh_io.h"
 #include "freeform/mesh/mesh.h"
 #include "freeform/mesh/types.h"
 
@@ -10,6 +13,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <string>
 #include <map>
 #include <numbers>
 #include <tuple>
@@ -118,6 +126,62 @@ inline double min_singular_value(const Mesh& mesh, const VertexData<Vec3>& rest,
     lo = std::min(lo, Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(j).singularValues()[1]);
   }
   return lo;
+}
+
+// The survey set-ups (support = every vertex not fixed, one handle with its transform), shared
+// by tests/nonlinear and bench/bench_nonlinear.cpp.
+struct Shape {
+  std::string name;
+  Mesh mesh;
+  Edit edit;
+};
+
+
+// Support: every vertex not fixed; handle: vertices with `is_handle`.
+inline Shape setup(std::string name, const TriangleSoup& soup, const std::function<bool(const Vec3&)>& is_fixed,
+            const std::function<bool(const Vec3&)>& is_handle, const Eigen::Affine3d& t) {
+  Shape s{std::move(name), Mesh::from_soup(soup), {}};
+  EditHandle h;
+  for (Vertex v : s.mesh.vertices()) {
+    const Vec3& p = s.mesh.position(v);
+    if (!is_fixed(p)) s.edit.support.push_back(v);
+    if (is_handle(p)) h.vertices.push_back(v);
+  }
+  h.matrix = t;
+  s.edit.handles.push_back(h);
+  s.edit.multiresolution = false;
+  return s;
+}
+
+inline Eigen::Affine3d rotation_about(const Vec3& pivot, double degrees, const Vec3& axis) {
+  return Eigen::Translation3d(pivot) * Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, axis.normalized()) *
+         Eigen::Translation3d(-pivot);
+}
+
+inline Shape bar_twist() {
+  return setup("bar", make_box(1, 1, 5, 10), [](const Vec3& p) { return p.z() < 0.5; },
+               [](const Vec3& p) { return p.z() > 4.5; }, rotation_about(Vec3(0.5, 0.5, 0), 135, Vec3::UnitZ()));
+}
+
+// The free part (z in [1, 7]) bent into a circular arc of 120 degrees: the handle's base circle
+// goes to the arc's end, turned by 120 degrees about y.
+inline Shape cylinder_bend() {
+  const double theta = 120.0 * std::numbers::pi / 180.0, rho = 6.0 / theta;
+  const Vec3 arc_end(rho - rho * std::cos(theta), 0.0, 1.0 + rho * std::sin(theta));
+  const Eigen::Affine3d t =
+      Eigen::Translation3d(arc_end) * Eigen::AngleAxisd(theta, Vec3::UnitY()) * Eigen::Translation3d(Vec3(0, 0, -7.0));
+  return setup("cylinder", make_capsule(1.0, 8.0, 32, 64), [](const Vec3& p) { return p.z() < 1.0; },
+               [](const Vec3& p) { return p.z() > 7.0; }, t);
+}
+
+// libcgal-demo's cactus (y up): the right arm, from where it leaves the trunk, bent 70 degrees
+// outward about its elbow; the arm's tip is the handle.
+inline std::optional<Shape> cactus_bend(const std::filesystem::path& mesh_dir) {
+  const std::filesystem::path file = mesh_dir / "cactus.off";
+  if (!std::filesystem::exists(file)) return std::nullopt;
+  return setup("cactus", read_mesh(file.string()).soup, [](const Vec3& p) { return p.x() < 0.1; },
+               [](const Vec3& p) { return p.x() > 0.2 && p.y() > 0.38; },
+               rotation_about(Vec3(0.3, 0.2, 0.0), -70, Vec3::UnitZ()));
 }
 
 }  // namespace freeform::test

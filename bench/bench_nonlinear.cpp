@@ -1,0 +1,123 @@
+// The nonlinear model against CGAL's Surface_mesh_deformation (ARAP, spokes and rims) on the
+// survey's large-deformation set-ups (tests/nonlinear/survey_shapes.h), in one run: time to
+// convergence (precompute and solve separately), folded edges, smallest singular value of the
+// face deformation gradients, enclosed volume. Prints JSON (docs/benchmarks.md).
+//   bench_nonlinear [repetitions=3]
+#include "nonlinear/survey_shapes.h"
+
+#include "freeform/edit/edit_solver.h"
+#include "freeform/mesh/folds.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <vector>
+
+#ifdef FREEFORM_HAVE_CGAL
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_deformation.h>
+#endif
+
+namespace {
+
+using namespace freeform;
+using namespace freeform::test;
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+nlohmann::json quality(const Shape& s, const VertexData<Vec3>& p) {
+  return {{"folded_edges", count_folded_edges(s.mesh, s.mesh.positions(), p)},
+          {"min_singular_value", min_singular_value(s.mesh, s.mesh.positions(), p)},
+          {"volume_ratio", volume(s.mesh, p) / volume(s.mesh, s.mesh.positions())}};
+}
+
+nlohmann::json run_freeform(Shape s, int order, int reps) {
+  s.edit.settings.order = order;
+  s.edit.deformation = Deformation::Nonlinear;
+  s.edit.nonlinear.max_iterations = 1000;
+  std::vector<double> pre, solve;
+  VertexData<Vec3> p = s.mesh.positions();
+  NonlinearState state;
+  for (int r = 0; r < reps; ++r) {
+    auto t = Clock::now();
+    const EditSolver solver(s.mesh, s.edit);
+    pre.push_back(ms_since(t));
+    p = s.mesh.positions();
+    t = Clock::now();
+    solver.evaluate(solver.transforms(s.edit), p);
+    solve.push_back(ms_since(t));
+    state = *solver.nonlinear_state();
+  }
+  nlohmann::json j = {{"method", "freeform nonlinear"}, {"order", order}, {"precompute_ms", median(pre)},
+                      {"solve_ms", median(solve)}, {"iterations", state.iterations}, {"converged", state.converged}};
+  j.update(quality(s, p));
+  return j;
+}
+
+#ifdef FREEFORM_HAVE_CGAL
+nlohmann::json run_cgal_arap(const Shape& s, int reps) {
+  using Point = CGAL::Simple_cartesian<double>::Point_3;
+  using SurfaceMesh = CGAL::Surface_mesh<Point>;
+  using SmVertex = SurfaceMesh::Vertex_index;
+  const TriangleSoup soup = s.mesh.to_soup();
+  const Eigen::Affine3d t = *s.edit.handles.front().matrix;
+  std::vector<double> pre, solve;
+  VertexData<Vec3> p = s.mesh.positions();
+  for (int r = 0; r < reps; ++r) {
+    SurfaceMesh sm;
+    for (const Vec3& x : soup.positions) sm.add_vertex(Point(x.x(), x.y(), x.z()));
+    for (const Tri& f : soup.faces)
+      sm.add_face(SmVertex(static_cast<SurfaceMesh::size_type>(f[0])), SmVertex(static_cast<SurfaceMesh::size_type>(f[1])),
+                  SmVertex(static_cast<SurfaceMesh::size_type>(f[2])));
+    auto clock = Clock::now();
+    CGAL::Surface_mesh_deformation<SurfaceMesh> d(sm);
+    for (Vertex v : s.edit.support) d.insert_roi_vertex(SmVertex(static_cast<SurfaceMesh::size_type>(v.idx())));
+    for (Vertex v : s.edit.handles.front().vertices) d.insert_control_vertex(SmVertex(static_cast<SurfaceMesh::size_type>(v.idx())));
+    if (!d.preprocess()) return {{"method", "CGAL ARAP"}, {"error", "preprocess failed"}};
+    pre.push_back(ms_since(clock));
+    for (Vertex v : s.edit.handles.front().vertices) {
+      const Vec3 y = t * s.mesh.position(v);
+      d.set_target_position(SmVertex(static_cast<SurfaceMesh::size_type>(v.idx())), Point(y.x(), y.y(), y.z()));
+    }
+    clock = Clock::now();
+    d.deform(20000, 1e-6);  // to convergence: relative energy change below 1e-6
+    solve.push_back(ms_since(clock));
+    for (Vertex v : s.mesh.vertices()) {
+      const Point& q = sm.point(SmVertex(static_cast<SurfaceMesh::size_type>(v.idx())));
+      p[v] = Vec3(q.x(), q.y(), q.z());
+    }
+  }
+  nlohmann::json j = {{"method", "CGAL ARAP"}, {"precompute_ms", median(pre)}, {"solve_ms", median(solve)}};
+  j.update(quality(s, p));
+  return j;
+}
+#endif
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int reps = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
+  const char* env = std::getenv("FREEFORM_MESH_DIR");
+  std::vector<Shape> shapes{bar_twist(), cylinder_bend()};
+  if (auto cactus = cactus_bend(env && *env ? env : FREEFORM_DEFAULT_MESH_DIR)) shapes.push_back(std::move(*cactus));
+  nlohmann::json out = nlohmann::json::array();
+  for (const Shape& s : shapes) {
+    nlohmann::json runs = nlohmann::json::array();
+    for (int k : {2, 3}) runs.push_back(run_freeform(s, k, reps));
+#ifdef FREEFORM_HAVE_CGAL
+    runs.push_back(run_cgal_arap(s, reps));
+#endif
+    out.push_back({{"test", s.name}, {"vertices", s.mesh.n_vertices()}, {"runs", runs}});
+  }
+  std::cout << out.dump(2) << "\n";
+}
