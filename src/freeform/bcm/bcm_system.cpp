@@ -275,16 +275,22 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
   const double area_floor = detail::kAreaFloorRatio * (n_inner > 0 && total_area > 0.0 ? total_area / n_inner : 1.0);
   for (int i = 0; i < n_inner; ++i) sys.zero_area_vertices += area[i] >= area_floor ? 0 : 1;
 
-  // S_k rows of the free vertices: X_1 = L, X_{m+1} = L Lam_m D X_m (rows shrink ring by ring).
+  // Y_{m+1} = L Lam_m D Y_m for m = 1 .. k-1 (rows shrink ring by ring, the free rows last).
+  auto apply_levels = [&](const Csr& first, Csr& out) -> const Csr& {
+    const Csr* rows = &first;
+    for (int m = 1; m <= k - 1; ++m) {
+      Eigen::VectorXd w = Eigen::VectorXd::Zero(n_loc);
+      for (int i = 0; i < n_inner; ++i)
+        w[i] = smoothness_lambda(c[static_cast<std::size_t>(i)], m) / (2.0 * std::max(area[i], area_floor));
+      out = scaled_product(lap, w, *rows, m == k - 1 ? n_free : row_count(p, k - 1 - m));
+      rows = &out;
+    }
+    return *rows;
+  };
+  // S_k rows of the free vertices, from X_1 = L (k = 1: the (k-1)-ring is the free set, so lap
+  // has exactly its rows).
   Csr x;
-  const Csr* s_rows = &lap;  // k = 1: the (k-1)-ring is the free set, so lap has exactly its rows
-  for (int m = 1; m <= k - 1; ++m) {
-    Eigen::VectorXd w = Eigen::VectorXd::Zero(n_loc);
-    for (int i = 0; i < n_inner; ++i)
-      w[i] = smoothness_lambda(c[static_cast<std::size_t>(i)], m) / (2.0 * std::max(area[i], area_floor));
-    x = scaled_product(lap, w, *s_rows, m == k - 1 ? n_free : row_count(p, k - 1 - m));
-    s_rows = &x;
-  }
+  const Csr* s_rows = &apply_levels(lap, x);
   const double sign = k % 2 == 1 ? -1.0 : 1.0;
   if (split_operator) {
     // outer = sign * (L Lam_{k-1} D) ... (L Lam_1 D): the same products started from the identity.
@@ -296,15 +302,7 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
       id.outer.push_back(i + 1);
     }
     Csr y;
-    const Csr* o_rows = &id;
-    for (int m = 1; m <= k - 1; ++m) {
-      Eigen::VectorXd w = Eigen::VectorXd::Zero(n_loc);
-      for (int i = 0; i < n_inner; ++i)
-        w[i] = smoothness_lambda(c[static_cast<std::size_t>(i)], m) / (2.0 * std::max(area[i], area_floor));
-      y = scaled_product(lap, w, *o_rows, m == k - 1 ? n_free : row_count(p, k - 1 - m));
-      o_rows = &y;
-    }
-    Csr top = *o_rows;  // k = 1: the identity's first n_free rows
+    Csr top = apply_levels(id, y);  // k = 1: the identity's first n_free rows
     top.rows = n_free;
     top.outer.resize(static_cast<std::size_t>(n_free) + 1);
     sys.outer = column_block(top, 0, n_inner, sign);
