@@ -82,7 +82,7 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
     d.owner[static_cast<std::size_t>(j)] = h >= 0 ? regions.movable_index(h) : -1;
   }
   d.x = d.rest;
-  d.extent = std::max((d.rest.colwise().maxCoeff() - d.rest.colwise().minCoeff()).norm(), 1e-300);
+  if (p + c > 0) d.extent = std::max((d.rest.colwise().maxCoeff() - d.rest.colwise().minCoeff()).norm(), 1e-300);
 
   // Guidance weights: a translation t moves free vertex i by (sum of its basis row over the
   // handle's 4 frame columns) * t, BCM's own smooth blend of that handle.
@@ -200,7 +200,7 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
     const Eigen::MatrixXd disp = d.sys->solver.solve(rhs);
     d.last = d.x.topRows(p);
     d.x.topRows(p) = d.rest.topRows(p) + disp;
-    state_.step = (d.x.topRows(p) - d.last).rowwise().norm().maxCoeff() / d.extent;
+    state_.step = p > 0 ? (d.x.topRows(p) - d.last).rowwise().norm().maxCoeff() / d.extent : 0.0;
     ++state_.iterations;
     state_.converged = state_.step <= options_.tolerance;
     state_.ms = ms0 + std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
