@@ -73,29 +73,6 @@ TEST(Document, DisplayEqualsDeformOfTheEdit) {
   }
 }
 
-// The nonlinear model in the editor: each display update iterates within its frame budget and
-// asks for another update until converged; the converged display is the edit's deform().
-TEST(Document, NonlinearDisplayRefinesUntilItEqualsDeform) {
-  for (const bool multires : {true, false}) {
-    Document doc;
-    setup(doc, multires, true);
-    int updates = 1;
-    while (!doc.last_timings().converged && updates < 1000) {
-      doc.update_display();
-      ++updates;
-    }
-    EXPECT_TRUE(doc.last_timings().converged);
-    EXPECT_GT(doc.last_timings().iterations, 0);
-    const FrameTimings idle = doc.update_display();  // converged: nothing more to compute
-    EXPECT_FALSE(idle.evaluated);
-    const Edit edit = doc.state().to_edit(doc.rest_mesh());
-    ASSERT_EQ(edit.deformation, Deformation::Nonlinear);
-    const Mesh expected = deform(doc.rest_mesh(), edit);
-    EXPECT_LE(max_diff(doc.display_positions(), expected.positions()), 1e-4);
-    EXPECT_GT(max_diff(doc.display_positions(), doc.rest_mesh().positions()), 0.05);
-  }
-}
-
 // Between display resets a frame changes only display_touched(): the editor's O(support)
 // display update relies on it. A new solver (new regions) resets the whole display.
 TEST(Document, FramesChangeOnlyTheTouchedVerticesUntilAReset) {
