@@ -1,0 +1,19 @@
+"""The bundled `freeform` module (built by scripts/blender-addon.sh into this package)."""
+
+try:
+    from . import freeform as ff  # noqa: F401  (the pybind11 module, PyInit_freeform)
+    IMPORT_ERROR = None
+except ImportError as error:  # a zip without the module, or built for another Python
+    ff = None
+    IMPORT_ERROR = (f"Freeform: the compiled module could not be loaded ({error}); build the add-on with "
+                    "scripts/blender-addon.sh for this Blender's Python")
+
+
+class UserError(Exception):
+    """A problem the user can fix: reported as a Blender error message, never a traceback."""
+
+
+def require():
+    if ff is None:
+        raise UserError(IMPORT_ERROR)
+    return ff

@@ -1,0 +1,45 @@
+"""Per-object settings (saved with the .blend): the edit's order, smoothness and models."""
+
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
+
+
+def _changed(self, context):
+    # A running edit follows its settings: precompute again in the background and show it.
+    from . import operators
+    operators.refresh(self.id_data)
+
+
+class FreeformSettings(bpy.types.PropertyGroup):
+    order: EnumProperty(
+        name="Stiffness", default='2', update=_changed,
+        items=[('1', "Membrane (k=1)", "Minimal area: tent-like, C0 at the boundary"),
+               ('2', "Thin plate (k=2)", "Minimal bending: smooth, C1 at the boundary"),
+               ('3', "Min. curvature variation (k=3)", "Smoothest: C2 at the boundary")])
+    outer: FloatProperty(
+        name="Outer smoothness", min=0.0, max=2.0, default=2.0, update=_changed,
+        description="Boundary smoothness at the fixed side: 0 = crease (C0), k-1 = smoothest (clamped to k-1)")
+    inner: FloatProperty(
+        name="Inner smoothness", min=0.0, max=2.0, default=2.0, update=_changed,
+        description="Boundary smoothness at the handles: 0 = crease (C0), k-1 = smoothest (clamped to k-1)")
+    anisotropic: BoolProperty(
+        name="Anisotropic", default=False, update=_changed,
+        description="Bend long thin supports along their whole length (operator on the support's conformal map)")
+    multiresolution: BoolProperty(
+        name="Keep detail", default=True, update=_changed,
+        description="Multiresolution: deform a smooth base and put the detail back on it")
+    deformation: EnumProperty(
+        name="Model", default='LINEAR', update=_changed,
+        items=[('LINEAR', "Linear", "The paper's BCM: one dense product per frame"),
+               ('NONLINEAR', "Nonlinear", "Rotation-aware BCM: large twists and bends keep their volume (iterates)")])
+    active_handle: StringProperty(name="Active handle", description="The handle G/R/S move")
+
+
+def register():
+    bpy.utils.register_class(FreeformSettings)
+    bpy.types.Object.freeform = bpy.props.PointerProperty(type=FreeformSettings)
+
+
+def unregister():
+    del bpy.types.Object.freeform
+    bpy.utils.unregister_class(FreeformSettings)
