@@ -26,7 +26,7 @@ class VIEW3D_PT_freeform(bpy.types.Panel):
         if obj.mode == 'EDIT':
             self.draw_regions(layout, obj)
             self.draw_settings(layout, obj)
-            self.draw_solver(layout, obj)
+            self.draw_solver(context, layout, obj)
         else:
             layout.label(text="Tab into Edit Mode to set regions and drag handles", icon='INFO')
         col = layout.column(align=True)
@@ -67,12 +67,14 @@ class VIEW3D_PT_freeform(bpy.types.Panel):
         col.prop(s, "multiresolution")
         col.prop(s, "deformation")
 
-    def draw_solver(self, layout, obj):
+    def draw_solver(self, context, layout, obj):
         s = session.get(obj)
         box = layout.box()
         if s is not None and s.running:
             stage, done = s.progress
-            box.label(text=f"Precomputing: {stage} {done:.0%}", icon='SORTTIME')
+            row = box.row()
+            row.enabled = False  # a bar, not a slider the user could drag
+            row.prop(context.window_manager, "freeform_progress", text=f"Precomputing: {stage}", slider=True)
         elif s is not None and s.error is not None:
             box.alert = True
             box.label(text=str(s.error)[:120], icon='ERROR')

@@ -38,8 +38,11 @@ class FreeformSettings(bpy.types.PropertyGroup):
 def register():
     bpy.utils.register_class(FreeformSettings)
     bpy.types.Object.freeform = bpy.props.PointerProperty(type=FreeformSettings)
+    bpy.types.WindowManager.freeform_progress = FloatProperty(  # the panel's progress bar
+        name="Progress", subtype='PERCENTAGE', min=0.0, max=100.0, options={'SKIP_SAVE'})
 
 
 def unregister():
+    del bpy.types.WindowManager.freeform_progress
     del bpy.types.Object.freeform
     bpy.utils.unregister_class(FreeformSettings)

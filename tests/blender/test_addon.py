@@ -224,3 +224,34 @@ def test_bad_input_is_a_blender_error_message(scene, tmp_path):
     assert "missing.json" in error_of(lambda: bpy.ops.freeform.apply_edit(filepath=missing))
     (tmp_path / "bad.json").write_text('{"order": 2, "support": {"vertices": [999999]}}')
     assert "outside the mesh" in error_of(lambda: bpy.ops.freeform.apply_edit(filepath=str(tmp_path / "bad.json")))
+
+
+def test_a_settings_change_precomputes_in_the_background_and_shows_the_new_result(scene, tmp_path):
+    import freeform_blender.operators as ops
+    import freeform_blender.session as session
+    obj = subdivided_cube()
+    rest = coords(obj)
+    support, handle = rest[:, 2] > -0.6, rest[:, 2] > 0.9
+    select(obj, support)
+    bpy.ops.freeform.assign(role='SUPPORT')
+    select(obj, handle)
+    bpy.ops.freeform.assign(role='HANDLE')
+    bpy.ops.freeform.transform(mode='TRANSLATE', translate=(0.0, 0.3, 0.3))
+    k2 = coords(obj)
+    obj.freeform.order = '3'  # the panel's setting: precomputes in a thread
+    s = session.get(obj)
+    s.thread.join()
+    while ops._poll_precompute() is not None:  # Blender's timer, run by hand (no event loop here)
+        pass
+    k3 = coords(obj)
+    me = obj.data
+    me.calc_loop_triangles()
+    write_off(tmp_path / "cube.off", rest, np.array([t.vertices[:] for t in me.loop_triangles]))
+    move = np.eye(4)
+    move[:3, 3] = (0.0, 0.3, 0.3)
+    edit = {"order": 3, "support": {"vertices": np.flatnonzero(support).tolist()},
+            "handles": [{"region": {"vertices": np.flatnonzero(handle).tolist()}, "transform": {"matrix": move.tolist()}}]}
+    (tmp_path / "cube.json").write_text(json.dumps(edit))
+    expected = cli_deform(tmp_path / "cube.off", tmp_path / "cube.json", tmp_path / "cli.off")
+    assert np.abs(k3 - expected).max() <= 1e-6 * diagonal(rest)
+    assert np.abs(k3 - k2).max() > 1e-3  # the stiffer result differs
