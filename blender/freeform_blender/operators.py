@@ -59,7 +59,6 @@ def _poll_precompute():
             continue
         if s.running:
             busy = True
-            bpy.context.window_manager.freeform_progress = 100.0 * s.progress[1]
             continue
         s.thread = None
         obj = bpy.data.objects.get(name)

@@ -57,7 +57,8 @@ class VIEW3D_PT_freeform(bpy.types.Panel):
     def draw_settings(self, layout, obj):
         s = obj.freeform
         col = layout.column()
-        col.prop(s, "order")
+        col.label(text="Stiffness")
+        col.prop(s, "order", text="")
         k1 = int(s.order) - 1
         sub = col.column(align=True)
         sub.enabled = k1 > 0
@@ -65,7 +66,7 @@ class VIEW3D_PT_freeform(bpy.types.Panel):
         sub.prop(s, "inner", slider=True, text=f"Inner C0..C{k1}")
         col.prop(s, "anisotropic")
         col.prop(s, "multiresolution")
-        col.prop(s, "deformation")
+        col.prop(s, "deformation", text="")
 
     def draw_solver(self, context, layout, obj):
         s = session.get(obj)
@@ -74,7 +75,7 @@ class VIEW3D_PT_freeform(bpy.types.Panel):
             stage, done = s.progress
             row = box.row()
             row.enabled = False  # a bar, not a slider the user could drag
-            row.prop(context.window_manager, "freeform_progress", text=f"Precomputing: {stage}", slider=True)
+            row.prop(context.window_manager, "freeform_progress", text=stage, slider=True)
         elif s is not None and s.error is not None:
             box.alert = True
             box.label(text=str(s.error)[:120], icon='ERROR')
@@ -84,12 +85,12 @@ class VIEW3D_PT_freeform(bpy.types.Panel):
         box.operator("freeform.precompute", icon='FILE_REFRESH')
         row = box.row(align=True)
         row.operator_context = 'INVOKE_DEFAULT'
-        row.operator("freeform.transform", text="Move", icon='ORIENTATION_VIEW').mode = 'TRANSLATE'
-        row.operator("freeform.transform", text="Rotate", icon='DRIVER_ROTATIONAL_DIFFERENCE').mode = 'ROTATE'
-        row.operator("freeform.transform", text="Scale", icon='FULLSCREEN_ENTER').mode = 'RESIZE'
+        row.operator("freeform.transform", text="Move").mode = 'TRANSLATE'
+        row.operator("freeform.transform", text="Rotate").mode = 'ROTATE'
+        row.operator("freeform.transform", text="Scale").mode = 'RESIZE'
         row = box.row(align=True)
-        row.operator("freeform.reset", icon='LOOP_BACK')
-        row.operator("freeform.apply", icon='CHECKMARK')
+        row.operator("freeform.reset", text="Reset", icon='LOOP_BACK')
+        row.operator("freeform.apply", text="Apply", icon='CHECKMARK')
 
 
 def register():

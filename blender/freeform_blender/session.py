@@ -169,6 +169,8 @@ def prepare(obj, background=False):
     if old is not None:
         old.cancelled = True
     s = Session(key, rest, tris, movable, transforms)
+    if known is not None:
+        s.history.update(old.history)  # same rest: the shapes it made stay recognizable
     _sessions[obj.name] = s
     s.start(mesh, edit, background)
     return s
