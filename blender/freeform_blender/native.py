@@ -17,3 +17,12 @@ def require():
     if ff is None:
         raise UserError(IMPORT_ERROR)
     return ff
+
+
+def failure(obj, error):
+    """A library error as a message naming the object, with Blender's way to fix it."""
+    text = str(error)
+    if ff is not None and isinstance(error, ff.TopologyError):
+        text = text.split("; rerun with repair")[0] + (
+            " (Select > Select All by Trait > Non Manifold shows them; fix with Mesh > Clean Up or by hand)")
+    return UserError(f"Freeform: '{obj.name}': {text}")

@@ -9,7 +9,7 @@ from bpy.props import BoolProperty, EnumProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
 from . import mesh_data, regions, session
-from .native import UserError, require
+from .native import UserError, failure, require
 
 
 def _guarded(method, self, *args):
@@ -210,7 +210,7 @@ class FREEFORM_OT_apply_edit(bpy.types.Operator, ImportHelper):
             edit = ff.read_edit(self.filepath, mesh)
             out = ff.deform(mesh, edit)
         except (ff.Error, OSError) as error:
-            raise UserError(f"Freeform: {error}") from None
+            raise failure(obj, error) from None
         mesh_data.write_positions(obj, out)
         session.forget(obj)  # a shape no session made: the next edit starts from it
         self.report({'INFO'}, f"Freeform: applied {bpy.path.basename(self.filepath)}")
@@ -237,14 +237,14 @@ class FREEFORM_OT_export_edit(bpy.types.Operator, ExportHelper):
         s = session.get(obj)
         known = s.history.get(session.shape_hash(current)) if s is not None else None
         rest, transforms = (s.rest, known) if known is not None else (current, {})
-        data = session.edit_dict(obj, regions.read(obj), transforms)
+        data, _ = session.edit_dict(obj, regions.read(obj), transforms, tris)
         try:
             mesh = ff.Mesh(rest, tris)
             ff.write_edit(self.filepath, ff.Edit.from_dict(data, mesh, name=obj.name))
             if self.mesh_filepath:
                 ff.write_mesh(bpy.path.abspath(self.mesh_filepath), rest, tris)
         except (ff.Error, OSError) as error:
-            raise UserError(f"Freeform: {error}") from None
+            raise failure(obj, error) from None
         self.report({'INFO'}, f"Freeform: wrote {self.filepath}")
         return {'FINISHED'}
 

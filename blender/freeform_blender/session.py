@@ -8,7 +8,7 @@ import threading
 import numpy as np
 
 from . import mesh_data, regions
-from .native import UserError, require
+from .native import UserError, failure, require
 
 _sessions = {}  # object name -> Session
 
@@ -17,12 +17,17 @@ def shape_hash(points):
     return hashlib.blake2b(np.ascontiguousarray(points, dtype=np.float32).tobytes(), digest_size=16).digest()
 
 
-def edit_dict(obj, members, transforms):
-    """The edit-file schema (docs/edit-format.md) for the object's groups and settings."""
+def edit_dict(obj, members, transforms, tris):
+    """The edit-file schema (docs/edit-format.md) for the object's groups and settings, and the
+    movable handles' names in the edit's order. Loose
+    vertices (in no face) are left out: nothing could move them, they stay where they are."""
     s = obj.freeform
     k = int(s.order)
+    in_faces = np.zeros(len(obj.data.vertices), dtype=bool)
+    in_faces[tris.ravel()] = True
+    members = {n: ix[in_faces[ix]] for n, ix in members.items()}
     support = members.get(regions.SUPPORT, np.empty(0, dtype=np.int64))
-    handles = []
+    handles, movable_names = [], []
     for name, movable in regions.handle_groups(obj):
         ix = members.get(name)
         if ix is None or len(ix) == 0:
@@ -30,13 +35,14 @@ def edit_dict(obj, members, transforms):
         entry = {"region": {"vertices": ix}}
         if movable:
             entry["transform"] = {"matrix": transforms.get(name, np.eye(4))}
+            movable_names.append(name)
         else:
             entry["fixed"] = True
         handles.append(entry)
     if len(support) == 0:
         raise UserError(f"Freeform: the support of '{obj.name}' is empty: select the vertices that may move "
                         "and press Assign to Support")
-    if not any("transform" in h for h in handles):
+    if not movable_names:
         raise UserError(f"Freeform: '{obj.name}' has no movable handle: select vertices inside the support "
                         "and press New Handle")
     return {
@@ -47,7 +53,7 @@ def edit_dict(obj, members, transforms):
         "anisotropic": bool(s.anisotropic),
         "multiresolution": bool(s.multiresolution),
         "deformation": s.deformation.lower(),
-    }
+    }, movable_names
 
 
 class Session:
@@ -159,13 +165,12 @@ def prepare(obj, background=False):
         old.transforms = {n: known.get(n, np.eye(4)) for n in old.movable}
         return old
     rest, transforms = (old.rest, known) if known is not None and len(old.rest) == len(current) else (current, {})
-    movable = [n for n, m in regions.handle_groups(obj) if m and len(members.get(n, ())) > 0]
-    edit_data = edit_dict(obj, members, {})
+    edit_data, movable = edit_dict(obj, members, {}, tris)
     try:
         mesh = ff.Mesh(rest, tris)
         edit = ff.Edit.from_dict(edit_data, mesh, name=obj.name)
     except ff.Error as error:
-        raise UserError(f"Freeform: {error}") from None
+        raise failure(obj, error) from None
     if old is not None:
         old.cancelled = True
     s = Session(key, rest, tris, movable, transforms)

@@ -255,3 +255,33 @@ def test_a_settings_change_precomputes_in_the_background_and_shows_the_new_resul
     expected = cli_deform(tmp_path / "cube.off", tmp_path / "cube.json", tmp_path / "cli.off")
     assert np.abs(k3 - expected).max() <= 1e-6 * diagonal(rest)
     assert np.abs(k3 - k2).max() > 1e-3  # the stiffer result differs
+
+
+def test_loose_vertices_stay_and_a_non_manifold_mesh_is_refused_by_name(scene):
+    obj = subdivided_cube()
+    bm = bmesh.from_edit_mesh(obj.data)
+    loose = bm.verts.new((0.0, 0.0, 0.5))  # inside the support's height range, in no face
+    bmesh.update_edit_mesh(obj.data)
+    rest = coords(obj)
+    select(obj, rest[:, 2] > -0.6)
+    bpy.ops.freeform.assign(role='SUPPORT')
+    select(obj, rest[:, 2] > 0.9)
+    bpy.ops.freeform.assign(role='HANDLE')
+    bpy.ops.freeform.transform(mode='TRANSLATE', translate=(0.0, 0.0, 0.5))
+    got = coords(obj)
+    assert np.array_equal(got[-1], rest[-1]) and loose is not None
+    assert np.abs(got - rest).max() >= 0.5 - 1e-6
+
+    bpy.ops.object.mode_set(mode='OBJECT')
+    me = bpy.data.meshes.new("fin")  # three triangles on one edge
+    me.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1)], [], [(0, 1, 2), (1, 0, 3), (0, 1, 4)])
+    fin = bpy.data.objects.new("fin", me)
+    bpy.context.scene.collection.objects.link(fin)
+    bpy.context.view_layer.objects.active = fin
+    bpy.ops.object.mode_set(mode='EDIT')
+    bpy.ops.mesh.select_all(action='SELECT')
+    bpy.ops.freeform.assign(role='SUPPORT')
+    select(fin, np.array([False, False, True, False, False]))
+    bpy.ops.freeform.assign(role='HANDLE')
+    message = error_of(lambda: bpy.ops.freeform.transform(translate=(0, 0, 1)))
+    assert "manifold" in message and "fin" in message
