@@ -55,6 +55,20 @@ def cli_deform(mesh_path, edit_path, out_path):
     return read_off(out_path)
 
 
+def cli_translation(obj, rest, support, handle, offset, order, tmp_path):
+    """The CLI's result for the same regions and a translated handle, on Blender's own
+    triangulation of the object, written by this test (not by the add-on)."""
+    me = obj.data
+    me.calc_loop_triangles()
+    write_off(tmp_path / "tri.off", rest, np.array([t.vertices[:] for t in me.loop_triangles]))
+    move = np.eye(4)
+    move[:3, 3] = offset
+    edit = {"order": order, "support": {"vertices": np.flatnonzero(support).tolist()},
+            "handles": [{"region": {"vertices": np.flatnonzero(handle).tolist()}, "transform": {"matrix": move.tolist()}}]}
+    (tmp_path / "tri.json").write_text(json.dumps(edit))
+    return cli_deform(tmp_path / "tri.off", tmp_path / "tri.json", tmp_path / "cli.off")
+
+
 def read_off(path):
     words = open(path).read().split()
     assert words[0] == "OFF"
@@ -124,17 +138,7 @@ def test_panel_regions_on_a_quad_mesh_and_a_handle_move_equal_the_cli_and_undo(s
     assert with_undo(bpy.ops.freeform.transform, mode='TRANSLATE', translate=(0.3, 0.0, 0.4)) == {'FINISHED'}
     got = coords(obj)
 
-    # The same edit through the CLI, on Blender's triangulation written by this test.
-    me = obj.data
-    me.calc_loop_triangles()
-    tris = np.array([t.vertices[:] for t in me.loop_triangles])
-    write_off(tmp_path / "cube.off", rest, tris)
-    move = np.eye(4)
-    move[:3, 3] = (0.3, 0.0, 0.4)
-    edit = {"order": 2, "support": {"vertices": np.flatnonzero(support).tolist()},
-            "handles": [{"region": {"vertices": np.flatnonzero(handle).tolist()}, "transform": {"matrix": move.tolist()}}]}
-    (tmp_path / "cube.json").write_text(json.dumps(edit))
-    expected = cli_deform(tmp_path / "cube.off", tmp_path / "cube.json", tmp_path / "cli.off")
+    expected = cli_translation(obj, rest, support, handle, (0.3, 0.0, 0.4), 2, tmp_path)
     assert np.abs(got - expected).max() <= 1e-6 * diagonal(rest)
     assert np.allclose(got[handle], rest[handle] + [0.3, 0.0, 0.4], atol=1e-6)
     assert np.array_equal(got[~support], rest[~support])
@@ -244,15 +248,7 @@ def test_a_settings_change_precomputes_in_the_background_and_shows_the_new_resul
     while ops._poll_precompute() is not None:  # Blender's timer, run by hand (no event loop here)
         pass
     k3 = coords(obj)
-    me = obj.data
-    me.calc_loop_triangles()
-    write_off(tmp_path / "cube.off", rest, np.array([t.vertices[:] for t in me.loop_triangles]))
-    move = np.eye(4)
-    move[:3, 3] = (0.0, 0.3, 0.3)
-    edit = {"order": 3, "support": {"vertices": np.flatnonzero(support).tolist()},
-            "handles": [{"region": {"vertices": np.flatnonzero(handle).tolist()}, "transform": {"matrix": move.tolist()}}]}
-    (tmp_path / "cube.json").write_text(json.dumps(edit))
-    expected = cli_deform(tmp_path / "cube.off", tmp_path / "cube.json", tmp_path / "cli.off")
+    expected = cli_translation(obj, rest, support, handle, (0.0, 0.3, 0.3), 3, tmp_path)
     assert np.abs(k3 - expected).max() <= 1e-6 * diagonal(rest)
     assert np.abs(k3 - k2).max() > 1e-3  # the stiffer result differs
 

@@ -73,6 +73,38 @@ TEST(Document, DisplayEqualsDeformOfTheEdit) {
   }
 }
 
+// The nonlinear model in the editor: each display update iterates within its frame budget and
+// asks for another update until converged. The converged display is the model's solution: as
+// close to the fixed point (solved to 1e-9) as the cold deform() of the edit is, which is a
+// small fraction of how far linear BCM is from it. Independent of how the frame budget splits
+// the iterations (the sanitizer build runs several times slower).
+TEST(Document, NonlinearDisplayRefinesToTheModelsSolution) {
+  for (const bool multires : {true, false}) {
+    Document doc;
+    setup(doc, multires, true);
+    int updates = 1;
+    while (!doc.last_timings().converged && updates < 5000) {
+      doc.update_display();
+      ++updates;
+    }
+    EXPECT_TRUE(doc.last_timings().converged);
+    EXPECT_GT(doc.last_timings().iterations, 0);
+    EXPECT_FALSE(doc.update_display().evaluated);  // converged: nothing more to compute
+    Edit edit = doc.state().to_edit(doc.rest_mesh());
+    ASSERT_EQ(edit.deformation, Deformation::Nonlinear);
+    const Mesh cold = deform(doc.rest_mesh(), edit);
+    edit.nonlinear.tolerance = 1e-9;
+    edit.nonlinear.max_iterations = 100000;
+    const Mesh fixed_point = deform(doc.rest_mesh(), edit);
+    edit.deformation = Deformation::Linear;
+    const Mesh linear = deform(doc.rest_mesh(), edit);
+    const double gap = max_diff(linear.positions(), fixed_point.positions());
+    EXPECT_GT(gap, 0.01) << "multires " << multires;
+    EXPECT_LE(max_diff(doc.display_positions(), fixed_point.positions()), 0.1 * gap) << "multires " << multires;
+    EXPECT_LE(max_diff(cold.positions(), fixed_point.positions()), 0.1 * gap) << "multires " << multires;
+  }
+}
+
 // Between display resets a frame changes only display_touched(): the editor's O(support)
 // display update relies on it. A new solver (new regions) resets the whole display.
 TEST(Document, FramesChangeOnlyTheTouchedVerticesUntilAReset) {
