@@ -62,9 +62,14 @@ def _poll_precompute():
             continue
         s.thread = None
         obj = bpy.data.objects.get(name)
-        moved = any(not np.array_equal(m, np.eye(4)) for m in s.transforms.values())
-        if s.error is None and obj is not None and moved:
-            s.write(obj, s.transforms)
+        if s.error is not None or obj is None or len(obj.data.vertices) != len(s.rest):
+            continue
+        try:  # only over a shape this rest made (not after an undo or another tool meanwhile)
+            known = s.history.get(session.shape_hash(mesh_data.positions(obj)))
+            if known is not None and any(not np.array_equal(m, np.eye(4)) for m in known.values()):
+                s.write(obj, {n: known.get(n, np.eye(4)) for n in s.movable})
+        except Exception:  # noqa: BLE001  (a timer must survive: report on the console)
+            traceback.print_exc()
     _redraw()
     return 0.1 if busy else None
 
@@ -85,6 +90,29 @@ def refresh(obj):
     except UserError as error:
         session.forget(obj)
         print(error)
+
+
+_pending = set()  # objects with a refresh scheduled
+
+
+def refresh_soon(obj):
+    """A slider drag changes a setting many times: one refresh 0.3 s after the first change.
+    Scripts (no event loop, so no timers in background mode) refresh at once."""
+    if bpy.app.background:
+        refresh(obj)
+        return
+    name = obj.name
+    if name in _pending:
+        return
+
+    def fire():
+        _pending.discard(name)
+        target = bpy.data.objects.get(name)
+        if target is not None:
+            refresh(target)
+
+    _pending.add(name)
+    bpy.app.timers.register(fire, first_interval=0.3)
 
 
 def prepared(obj, wait=True):
@@ -112,6 +140,7 @@ class FREEFORM_OT_assign(bpy.types.Operator):
     def execute(self, context):
         obj = edit_object(context)
         name = regions.assign(obj, self.role, self.handle)
+        refresh(obj)
         if self.role == 'HANDLE':
             obj.freeform.active_handle = name
         self.report({'INFO'}, f"Freeform: selection assigned to {name}")
@@ -126,7 +155,9 @@ class FREEFORM_OT_remove(bpy.types.Operator):
 
     @reported
     def execute(self, context):
-        regions.remove_selected(edit_object(context))
+        obj = edit_object(context)
+        regions.remove_selected(obj)
+        refresh(obj)
         return {'FINISHED'}
 
 
@@ -232,11 +263,9 @@ class FREEFORM_OT_export_edit(bpy.types.Operator, ExportHelper):
     def execute(self, context):
         ff = require()
         obj = mesh_data.active_mesh_object(context)
-        current = mesh_data.positions(obj)
-        tris = mesh_data.triangles(obj)
-        s = session.get(obj)
-        known = s.history.get(session.shape_hash(current)) if s is not None else None
-        rest, transforms = (s.rest, known) if known is not None else (current, {})
+        s = prepared(obj)  # current regions and settings; a moved shape keeps its transforms
+        s.write(obj, s.transforms)  # so what Blender shows is what the file replays
+        rest, tris, transforms = s.rest, s.tris, s.transforms
         data, _ = session.edit_dict(obj, regions.read(obj), transforms, tris)
         try:
             mesh = ff.Mesh(rest, tris)

@@ -39,7 +39,9 @@ class VIEW3D_PT_freeform(bpy.types.Panel):
         col = box.column(align=True)
         col.operator("freeform.assign", text="Assign to Support", icon='MOD_SMOOTH').role = 'SUPPORT'
         col.operator("freeform.assign", text="New Handle", icon='EMPTY_ARROWS').role = 'HANDLE'
-        op = col.operator("freeform.assign", text="Assign to Active Handle", icon='ADD')
+        grow = col.row()
+        grow.enabled = bool(obj.freeform.active_handle)
+        op = grow.operator("freeform.assign", text="Assign to Active Handle", icon='ADD')
         op.role, op.handle = 'HANDLE', obj.freeform.active_handle
         col.operator("freeform.assign", text="New Immovable Handle", icon='PINNED').role = 'IMMOVABLE'
         col.operator("freeform.remove", text="Remove from Regions", icon='REMOVE')

@@ -18,7 +18,7 @@ def _order_changed(self, context):
 def _changed(self, context):
     # A running edit follows its settings: precompute again in the background and show it.
     from . import operators
-    operators.refresh(self.id_data)
+    operators.refresh_soon(self.id_data)
 
 
 class FreeformSettings(bpy.types.PropertyGroup):

@@ -70,6 +70,8 @@ class Session:
         self.cancelled = False
         self.thread = None
         self.out = rest.copy()
+        self.write_all = False  # next write: every row (the regions changed on a moved shape)
+        self.name = ""
 
     # precompute ---------------------------------------------------------------------------
     def start(self, mesh, edit, background):
@@ -98,7 +100,7 @@ class Session:
         if self.thread is not None:
             self.thread.join()
         if self.error is not None:
-            raise UserError(f"Freeform: {self.error}")
+            raise UserError(f"Freeform: '{self.name}': {self.error}")
         return self.solver
 
     # frames ------------------------------------------------------------------------------
@@ -118,7 +120,8 @@ class Session:
     def write(self, obj, transforms):
         """Show the result of `transforms` and remember it (for undo)."""
         out = self.evaluate(transforms)
-        mesh_data.write_positions(obj, out, self.solver.touched)
+        mesh_data.write_positions(obj, out, None if self.write_all else self.solver.touched)
+        self.write_all = False
         self.transforms = {n: m.copy() for n, m in transforms.items()}
         self.history[shape_hash(out)] = self.transforms
 
@@ -143,8 +146,12 @@ def forget(obj):
 
 
 def forget_all():
+    """Cancel and wait: a thread still inside the C++ solver must not outlive the add-on."""
     for s in _sessions.values():
         s.cancelled = True
+    for s in _sessions.values():
+        if s.thread is not None:
+            s.thread.join()
     _sessions.clear()
 
 
@@ -174,8 +181,10 @@ def prepare(obj, background=False):
     if old is not None:
         old.cancelled = True
     s = Session(key, rest, tris, movable, transforms)
+    s.name = obj.name
     if known is not None:
         s.history.update(old.history)  # same rest: the shapes it made stay recognizable
+        s.write_all = True
     _sessions[obj.name] = s
     s.start(mesh, edit, background)
     return s

@@ -4,6 +4,7 @@ same operator non-modal for scripts: bpy.ops.freeform.transform(mode='ROTATE', a
 Transforms are in world space around the handle's current centroid, like Blender's defaults."""
 
 import math
+import traceback
 
 import bpy
 import numpy as np
@@ -57,7 +58,7 @@ class FREEFORM_OT_transform(bpy.types.Operator):
     # the world-space map of the current properties, about the handle's current centroid
     def delta(self, obj, s, name):
         world = np.array(obj.matrix_world)
-        pivot = (world @ np.append(s.pivot(name), 1.0))[:3]
+        pivot = (world @ np.append(s.pivot(name, self.start), 1.0))[:3]  # where the handle was at the start
         if self.mode == 'TRANSLATE':
             d = about(pivot, np.eye(3))
             d[:3, 3] = self.translate
@@ -168,8 +169,18 @@ class FREEFORM_OT_transform(bpy.types.Operator):
         context.area.header_text_set(None)
         context.workspace.status_text_set(None)
 
-    @reported
     def modal(self, context, event):
+        try:
+            return self.handle_event(context, event)
+        except Exception as error:  # noqa: BLE001  (restore and report, never a half-done drag)
+            self.session.write(context.active_object, self.start)
+            self.finish(context)
+            if not isinstance(error, UserError):
+                traceback.print_exc()
+            self.report({'ERROR'}, str(error) if isinstance(error, UserError) else f"Freeform: internal error: {error}")
+            return {'CANCELLED'}
+
+    def handle_event(self, context, event):
         t, pressed = event.type, event.value == 'PRESS'
         if t == 'MOUSEMOVE':
             self.mouse = self.region_mouse(event)

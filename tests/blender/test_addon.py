@@ -281,3 +281,22 @@ def test_loose_vertices_stay_and_a_non_manifold_mesh_is_refused_by_name(scene):
     bpy.ops.freeform.assign(role='HANDLE')
     message = error_of(lambda: bpy.ops.freeform.transform(translate=(0, 0, 1)))
     assert "manifold" in message and "fin" in message
+
+
+def test_regions_changed_on_a_moved_shape_keep_the_move_and_free_what_left(scene, tmp_path):
+    obj = subdivided_cube()
+    rest = coords(obj)
+    support, handle = rest[:, 2] > -0.6, rest[:, 2] > 0.9
+    select(obj, support)
+    bpy.ops.freeform.assign(role='SUPPORT')
+    select(obj, handle)
+    bpy.ops.freeform.assign(role='HANDLE')
+    bpy.ops.freeform.transform(mode='TRANSLATE', translate=(0.0, 0.0, 0.4))
+    left = support & (rest[:, 2] < -0.2)
+    select(obj, left)
+    bpy.ops.freeform.remove()  # the support shrinks while the handle is up
+    bpy.ops.freeform.transform(mode='TRANSLATE', translate=(0.0, 0.0, 0.1))  # composes: 0.5 in total
+    got = coords(obj)
+    expected = cli_translation(obj, rest, support & ~left, handle, (0.0, 0.0, 0.5), 2, tmp_path)
+    assert np.abs(got - expected).max() <= 1e-6 * diagonal(rest)
+    assert np.array_equal(got[left], rest[left])
