@@ -117,13 +117,30 @@ class Session:
         self.solver.evaluate_into(self.out, self.transform_list(transforms))
         return self.out
 
-    def write(self, obj, transforms):
-        """Show the result of `transforms` and remember it (for undo)."""
-        out = self.evaluate(transforms)
-        mesh_data.write_positions(obj, out, None if self.write_all else self.solver.touched)
+    def write(self, obj, transforms, budget_ms=None):
+        """Show the result of `transforms` and remember it (for undo). With a budget (a drag)
+        the nonlinear model iterates from the last frame for at most budget_ms (refine() goes
+        on); returns whether the shown shape is converged (the linear model always is)."""
+        t = self.transform_list(transforms)
+        if budget_ms is None:
+            self.solver.evaluate_into(self.out, t)
+            converged = True
+        else:
+            converged = self.solver.evaluate_within(self.out, t, budget_ms=budget_ms)["converged"]
+        self.show(obj, transforms)
+        return converged
+
+    def refine(self, obj, budget_ms):
+        """Continue the last drag frame's iterations; returns whether converged."""
+        converged = self.solver.refine(self.out, self.transform_list(), budget_ms=budget_ms)["converged"]
+        self.show(obj, self.transforms)
+        return converged
+
+    def show(self, obj, transforms):
+        mesh_data.write_positions(obj, self.out, None if self.write_all else self.solver.touched)
         self.write_all = False
         self.transforms = {n: m.copy() for n, m in transforms.items()}
-        self.history[shape_hash(out)] = self.transforms
+        self.history[shape_hash(self.out)] = self.transforms
 
 
 def _key(obj, members, tris):

@@ -21,6 +21,7 @@ _DIGITS = {**{n: str(i) for i, n in enumerate(("ZERO", "ONE", "TWO", "THREE", "F
                                                 "EIGHT", "NINE"))},
            **{f"NUMPAD_{i}": str(i) for i in range(10)}, "PERIOD": ".", "NUMPAD_PERIOD": "."}
 _MODES = {'G': 'TRANSLATE', 'R': 'ROTATE', 'S': 'RESIZE'}
+FRAME_BUDGET_MS = 20.0  # the nonlinear model's iterations per mouse move (freeform-editor's budget)
 
 
 def about(pivot, linear):
@@ -80,10 +81,10 @@ class FREEFORM_OT_transform(bpy.types.Operator):
                                 f"(handles: {', '.join(s.movable)}); pick one in the panel")
         return name
 
-    def apply(self, obj):
+    def apply(self, obj, budget_ms=None):
         t = dict(self.start)
         t[self.handle_name] = self.delta(obj, self.session, self.handle_name) @ self.start[self.handle_name]
-        self.session.write(obj, t)
+        return self.session.write(obj, t, budget_ms)
 
     @reported
     def execute(self, context):
@@ -111,6 +112,10 @@ class FREEFORM_OT_transform(bpy.types.Operator):
         self.mouse0 = self.mouse = self.region_mouse(event)
         self.lock, self.typed = None, ""
         self.translate, self.angle, self.scale = (0, 0, 0), 0.0, (1, 1, 1)
+        self.saved = mesh_data.positions(obj)  # Esc/right click restore exactly this
+        self.converged = True
+        # The nonlinear model refines between mouse moves, like freeform-editor.
+        self.timer = context.window_manager.event_timer_add(0.02, window=context.window)
         context.window_manager.modal_handler_add(self)
         self.status(context)
         return {'RUNNING_MODAL'}
@@ -128,7 +133,8 @@ class FREEFORM_OT_transform(bpy.types.Operator):
             value = "  ".join(f"{c:.4g}" for c in self.scale)
         lock = f" along {self.lock}" if self.lock else ""
         typed = f" [{self.typed}|]" if self.typed else ""
-        context.area.header_text_set(f"Freeform {what} {self.handle_name}{lock}: {value}{typed}")
+        refining = "" if self.converged else "  (refining)"
+        context.area.header_text_set(f"Freeform {what} {self.handle_name}{lock}: {value}{typed}{refining}")
         context.workspace.status_text_set("Click/Enter: confirm   Right click/Esc: cancel   G/R/S: mode   "
                                           "X/Y/Z: axis   type a value")
 
@@ -162,18 +168,24 @@ class FREEFORM_OT_transform(bpy.types.Operator):
             else:
                 f = number if number is not None else v.length / max(u.length, 1.0)
                 self.scale = tuple(f if (self.lock is None or self.lock == c) else 1.0 for c in "XYZ")
-        self.apply(context.active_object)
+        self.converged = self.apply(context.active_object, FRAME_BUDGET_MS)
         self.status(context)
 
     def finish(self, context):
+        context.window_manager.event_timer_remove(self.timer)
         context.area.header_text_set(None)
         context.workspace.status_text_set(None)
+
+    def restore(self, context):
+        obj = context.active_object
+        mesh_data.write_positions(obj, self.saved)
+        self.session.transforms = dict(self.start)
 
     def modal(self, context, event):
         try:
             return self.handle_event(context, event)
         except Exception as error:  # noqa: BLE001  (restore and report, never a half-done drag)
-            self.session.write(context.active_object, self.start)
+            self.restore(context)
             self.finish(context)
             if not isinstance(error, UserError):
                 traceback.print_exc()
@@ -182,6 +194,11 @@ class FREEFORM_OT_transform(bpy.types.Operator):
 
     def handle_event(self, context, event):
         t, pressed = event.type, event.value == 'PRESS'
+        if t == 'TIMER':
+            if not self.converged:  # ours or another timer: either way a moment to refine
+                self.converged = self.session.refine(context.active_object, FRAME_BUDGET_MS)
+                self.status(context)
+            return {'RUNNING_MODAL'}
         if t == 'MOUSEMOVE':
             self.mouse = self.region_mouse(event)
         elif t in ('MIDDLEMOUSE', 'WHEELUPMOUSE', 'WHEELDOWNMOUSE'):
@@ -189,10 +206,12 @@ class FREEFORM_OT_transform(bpy.types.Operator):
         elif not pressed:
             return {'RUNNING_MODAL'}
         elif t in ('LEFTMOUSE', 'RET', 'NUMPAD_ENTER'):
+            while not self.converged:  # the undo step holds the converged shape
+                self.converged = self.session.refine(context.active_object, 1000.0)
             self.finish(context)
             return {'FINISHED'}
         elif t in ('RIGHTMOUSE', 'ESC'):
-            self.session.write(context.active_object, self.start)
+            self.restore(context)
             self.finish(context)
             return {'CANCELLED'}
         elif t in _MODES:

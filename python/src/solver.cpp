@@ -97,22 +97,35 @@ class PySolver {
 
   // Writes the touched rows of `out` (float64, n x 3, C-contiguous, writeable).
   void evaluate_into(py::handle out, py::handle transforms) {
-    if (!py::isinstance<py::array_t<double>>(out))
-      throw py::type_error("out must be a float64 numpy array, got " +
-                           std::string(py::str(py::isinstance<py::array>(out) ? out.attr("dtype") : out.get_type())));
-    auto a = py::reinterpret_borrow<py::array>(out);
-    if (a.ndim() != 2 || a.shape(0) != static_cast<py::ssize_t>(positions_.size()) || a.shape(1) != 3)
-      throw py::value_error("out must have shape (" + std::to_string(positions_.size()) + ", 3), got " +
-                            std::string(py::str(out.attr("shape"))));
-    if (!(a.flags() & py::array::c_style) || !a.writeable())
-      throw py::value_error("out must be C-contiguous and writeable (np.ascontiguousarray, or mesh.vertices)");
+    double* dst = output(out);
     Buffer buf;
     const std::span<const Eigen::Affine3d> t = read(transforms, buf);
-    double* dst = static_cast<double*>(a.mutable_data());
     py::gil_scoped_release release;
     const std::lock_guard lock(mutex_);
     solver_->evaluate(t, positions_);
     copy_touched(dst);
+  }
+
+  // A drag: the nonlinear model iterates from the previous frame for at most budget_ms
+  // (refine: continues the last frame's iterations), writes the current iterate like
+  // evaluate_into and says how far it got. The linear model is always converged.
+  py::dict evaluate_within(py::handle out, py::handle transforms, double budget_ms, bool refine) {
+    if (!(budget_ms > 0.0)) throw py::value_error("budget_ms must be > 0");
+    double* dst = output(out);
+    Buffer buf;
+    const std::span<const Eigen::Affine3d> t = read(transforms, buf);
+    NonlinearState state;
+    {
+      py::gil_scoped_release release;
+      const std::lock_guard lock(mutex_);
+      state = refine ? solver_->refine(t, budget_ms, positions_) : solver_->evaluate_within(t, budget_ms, positions_);
+      copy_touched(dst);
+    }
+    py::dict d;
+    d["iterations"] = state.iterations;
+    d["residual"] = state.step;
+    d["converged"] = state.converged;
+    return d;
   }
 
   // Seconds of `n` C++ evaluate() calls (no Python in the loop): the benchmark's reference.
@@ -183,6 +196,21 @@ class PySolver {
     return {p, static_cast<std::size_t>(n)};
   }
 
+  // `out` checked as a frame's destination: float64, n x 3, C-contiguous, writeable (never
+  // converted, since it is written).
+  double* output(py::handle out) const {
+    if (!py::isinstance<py::array_t<double>>(out))
+      throw py::type_error("out must be a float64 numpy array, got " +
+                           std::string(py::str(py::isinstance<py::array>(out) ? out.attr("dtype") : out.get_type())));
+    auto a = py::reinterpret_borrow<py::array>(out);
+    if (a.ndim() != 2 || a.shape(0) != static_cast<py::ssize_t>(positions_.size()) || a.shape(1) != 3)
+      throw py::value_error("out must have shape (" + std::to_string(positions_.size()) + ", 3), got " +
+                            std::string(py::str(out.attr("shape"))));
+    if (!(a.flags() & py::array::c_style) || !a.writeable())
+      throw py::value_error("out must be C-contiguous and writeable (np.ascontiguousarray, or mesh.vertices)");
+    return static_cast<double*>(a.mutable_data());
+  }
+
   // The touched rows of positions_ to dst (n x 3), split across threads like the frame itself.
   void copy_touched(double* dst) const {
     const std::vector<Vertex>& touched = solver_->touched();
@@ -222,6 +250,20 @@ void bind_solver(py::module_& m) {
       .def("evaluate_into", &PySolver::evaluate_into, py::arg("out"), py::arg("transforms") = py::none(),
            "Like evaluate, but writes into `out` (float64, n x 3, C-contiguous) without allocating: only the "
            "rows of `touched` are written, the others keep what `out` holds (start from mesh.vertices).")
+      .def("evaluate_within",
+           [](PySolver& self, py::handle out, py::handle transforms, double budget_ms) {
+             return self.evaluate_within(out, transforms, budget_ms, false);
+           },
+           py::arg("out"), py::arg("transforms") = py::none(), py::kw_only(), py::arg("budget_ms") = 20.0,
+           "A drag frame: like evaluate_into, but the nonlinear model iterates from the previous frame for at most "
+           "budget_ms; returns {iterations, residual, converged}. The linear model is always converged.")
+      .def("refine",
+           [](PySolver& self, py::handle out, py::handle transforms, double budget_ms) {
+             return self.evaluate_within(out, transforms, budget_ms, true);
+           },
+           py::arg("out"), py::arg("transforms") = py::none(), py::kw_only(), py::arg("budget_ms") = 20.0,
+           "Continues the last frame's nonlinear iterations for at most budget_ms (call while idle until converged); "
+           "writes out like evaluate_into; returns {iterations, residual, converged}.")
       .def("_time_evaluate", &PySolver::time_evaluate, py::arg("n"), py::arg("transforms") = py::none(),
            py::arg("copy") = false,
            "Seconds of each of n C++ evaluate() calls without Python in the loop (benchmarks); copy=True adds "

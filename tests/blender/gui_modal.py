@@ -120,6 +120,28 @@ def rotate_mouse():
     check(f"R with the mouse rotates the handle ({angle:.1f} degrees)", angle > 5)
 
 
+def nonlinear_setup():
+    obj = state["obj"]
+    obj.freeform.deformation = 'NONLINEAR'
+    win, area, region = view3d()
+    with bpy.context.temp_override(window=win, area=area, region=region):
+        bpy.ops.freeform.precompute(background=False)
+        bpy.ops.ed.undo_push(message="nonlinear")
+    state["before_nonlinear"] = coords(obj)
+
+
+def nonlinear_confirmed():
+    import freeform_blender.session as session
+    obj = state["obj"]
+    dragged = coords(obj)
+    s = session.get(obj)
+    cold = s.evaluate()  # the same transforms solved from scratch
+    rest, h = state["rest"], state["handle"]
+    check("nonlinear G Y 0.6 Enter: handle moved by (0, 0.6, 0) more", np.abs(dragged[h] - (state["before_nonlinear"][h] + [0, 0.6, 0])).max() < 1e-5)
+    check("the confirmed nonlinear drag is the model's solution (the cold solve to 1e-4)", np.abs(dragged - cold).max() < 1e-4)
+    check("the nonlinear drag moved the support", np.abs(dragged - state["before_nonlinear"]).max() > 0.5)
+
+
 STEPS = [
     setup, lambda: move(0, 0), lambda: invoke('TRANSLATE'), lambda: move(40, 25),
     lambda: keys('Z', 'ZERO', 'PERIOD', 'FIVE'), lambda: keys('RET'), typed_move_confirmed,
@@ -128,7 +150,8 @@ STEPS = [
     lambda: invoke('TRANSLATE'), lambda: keys('R', 'NINE', 'ZERO'), lambda: keys('RIGHTMOUSE'),
     rotate_typed_then_right_click,
     lambda: invoke('RESIZE'), lambda: move(-50, 10), lambda: keys('X', 'TWO'), lambda: keys('RET'), scale_x_confirmed,
-    undo,
+    undo, nonlinear_setup, lambda: move(0, 0), lambda: invoke('TRANSLATE'), lambda: move(30, 30), lambda: move(60, 40),
+    lambda: keys('Y', 'ZERO', 'PERIOD', 'SIX'), lambda: keys('RET'), nonlinear_confirmed,
 ]
 
 

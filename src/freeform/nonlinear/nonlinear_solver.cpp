@@ -203,9 +203,9 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
     state_.step = p > 0 ? (d.x.topRows(p) - d.last).rowwise().norm().maxCoeff() / d.extent : 0.0;
     ++state_.iterations;
     state_.converged = state_.step <= options_.tolerance;
+    if (!state_.converged) fit_rotations();  // before any break: the next call starts with a fresh fit
     state_.ms = ms0 + std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     if (state_.converged || state_.ms - ms0 >= budget_ms) break;
-    fit_rotations();
   }
   return state_;
 }
