@@ -125,15 +125,22 @@ def subdivided_cube():
     return obj
 
 
-def test_panel_regions_on_a_quad_mesh_and_a_handle_move_equal_the_cli_and_undo(scene, tmp_path):
-    obj = subdivided_cube()
+def cube_with_regions(obj=None):
+    """The subdivided cube's upper part as the support, its top face as a handle, assigned
+    through the panel's operators; returns (object, rest positions, support, handle masks)."""
+    obj = obj or subdivided_cube()
     rest = coords(obj)
-    n_quads = len(obj.data.polygons)
     support, handle = rest[:, 2] > -0.6, rest[:, 2] > 0.9
     select(obj, support)
     assert bpy.ops.freeform.assign(role='SUPPORT') == {'FINISHED'}
     select(obj, handle)
     assert bpy.ops.freeform.assign(role='HANDLE') == {'FINISHED'}
+    return obj, rest, support, handle
+
+
+def test_panel_regions_on_a_quad_mesh_and_a_handle_move_equal_the_cli_and_undo(scene, tmp_path):
+    obj, rest, support, handle = cube_with_regions()
+    n_quads = len(obj.data.polygons)
     bpy.ops.ed.undo_push(message="regions")  # in background mode Blender starts no undo stack itself
     assert with_undo(bpy.ops.freeform.transform, mode='TRANSLATE', translate=(0.3, 0.0, 0.4)) == {'FINISHED'}
     got = coords(obj)
@@ -154,12 +161,7 @@ def test_panel_regions_on_a_quad_mesh_and_a_handle_move_equal_the_cli_and_undo(s
 
 
 def test_a_second_move_composes_and_undo_restores_the_first(scene):
-    obj = subdivided_cube()
-    rest = coords(obj)
-    select(obj, rest[:, 2] > -0.6)
-    bpy.ops.freeform.assign(role='SUPPORT')
-    select(obj, rest[:, 2] > 0.9)
-    bpy.ops.freeform.assign(role='HANDLE')
+    obj, rest, _, _ = cube_with_regions()
     bpy.ops.ed.undo_push(message="regions")
     with_undo(bpy.ops.freeform.transform, mode='TRANSLATE', translate=(0.0, 0.0, 0.4))
     first = coords(obj)
@@ -177,12 +179,7 @@ def test_a_second_move_composes_and_undo_restores_the_first(scene):
 
 
 def test_immovable_handle_stays_and_settings_and_groups_save_with_the_blend(scene, tmp_path):
-    obj = subdivided_cube()
-    rest = coords(obj)
-    select(obj, rest[:, 2] > -0.6)
-    bpy.ops.freeform.assign(role='SUPPORT')
-    select(obj, rest[:, 2] > 0.9)
-    bpy.ops.freeform.assign(role='HANDLE')
+    obj, rest, _, _ = cube_with_regions()
     ring = np.abs(rest[:, 2] - 0.25) < 0.05
     select(obj, ring)
     bpy.ops.freeform.assign(role='IMMOVABLE')
@@ -233,13 +230,7 @@ def test_bad_input_is_a_blender_error_message(scene, tmp_path):
 def test_a_settings_change_precomputes_in_the_background_and_shows_the_new_result(scene, tmp_path):
     import freeform_blender.operators as ops
     import freeform_blender.session as session
-    obj = subdivided_cube()
-    rest = coords(obj)
-    support, handle = rest[:, 2] > -0.6, rest[:, 2] > 0.9
-    select(obj, support)
-    bpy.ops.freeform.assign(role='SUPPORT')
-    select(obj, handle)
-    bpy.ops.freeform.assign(role='HANDLE')
+    obj, rest, support, handle = cube_with_regions()
     bpy.ops.freeform.transform(mode='TRANSLATE', translate=(0.0, 0.3, 0.3))
     k2 = coords(obj)
     obj.freeform.order = '3'  # the panel's setting: precomputes in a thread
@@ -258,11 +249,7 @@ def test_loose_vertices_stay_and_a_non_manifold_mesh_is_refused_by_name(scene):
     bm = bmesh.from_edit_mesh(obj.data)
     loose = bm.verts.new((0.0, 0.0, 0.5))  # inside the support's height range, in no face
     bmesh.update_edit_mesh(obj.data)
-    rest = coords(obj)
-    select(obj, rest[:, 2] > -0.6)
-    bpy.ops.freeform.assign(role='SUPPORT')
-    select(obj, rest[:, 2] > 0.9)
-    bpy.ops.freeform.assign(role='HANDLE')
+    obj, rest, _, _ = cube_with_regions(obj)
     bpy.ops.freeform.transform(mode='TRANSLATE', translate=(0.0, 0.0, 0.5))
     got = coords(obj)
     assert np.array_equal(got[-1], rest[-1]) and loose is not None
@@ -284,13 +271,7 @@ def test_loose_vertices_stay_and_a_non_manifold_mesh_is_refused_by_name(scene):
 
 
 def test_regions_changed_on_a_moved_shape_keep_the_move_and_free_what_left(scene, tmp_path):
-    obj = subdivided_cube()
-    rest = coords(obj)
-    support, handle = rest[:, 2] > -0.6, rest[:, 2] > 0.9
-    select(obj, support)
-    bpy.ops.freeform.assign(role='SUPPORT')
-    select(obj, handle)
-    bpy.ops.freeform.assign(role='HANDLE')
+    obj, rest, support, handle = cube_with_regions()
     bpy.ops.freeform.transform(mode='TRANSLATE', translate=(0.0, 0.0, 0.4))
     left = support & (rest[:, 2] < -0.2)
     select(obj, left)
