@@ -57,7 +57,8 @@ def edit_dict(obj, members, transforms, tris):
 
 
 class Session:
-    def __init__(self, key, rest, tris, movable, transforms):
+    def __init__(self, name, key, rest, tris, movable, transforms):
+        self.name = name  # the object's, for messages
         self.key = key
         self.rest = rest
         self.tris = tris
@@ -71,7 +72,6 @@ class Session:
         self.thread = None
         self.out = rest.copy()
         self.write_all = False  # next write: every row (the regions changed on a moved shape)
-        self.name = ""
 
     # precompute ---------------------------------------------------------------------------
     def start(self, mesh, edit, background):
@@ -117,18 +117,19 @@ class Session:
         self.solver.evaluate_into(self.out, self.transform_list(transforms))
         return self.out
 
-    def write(self, obj, transforms, budget_ms=None):
-        """Show the result of `transforms` and remember it (for undo). With a budget (a drag)
-        the nonlinear model iterates from the last frame for at most budget_ms (refine() goes
-        on); returns whether the shown shape is converged (the linear model always is)."""
-        t = self.transform_list(transforms)
-        if budget_ms is None:
-            self.solver.evaluate_into(self.out, t)
-            converged = True
-        else:
-            converged = self.solver.evaluate_within(self.out, t, budget_ms=budget_ms)["converged"]
+    def write(self, obj, transforms):
+        """Show the result of `transforms` and remember it (the end of an operation: an undo step)."""
+        self.evaluate(transforms)
         self.show(obj, transforms)
-        return converged
+        self.remember()
+
+    def drag(self, obj, transforms, budget_ms):
+        """A mouse move: the nonlinear model iterates from the last frame for at most budget_ms
+        (refine() goes on); returns whether the shown shape is converged (linear: always).
+        Not remembered: only the shape an operation ends with becomes an undo step."""
+        state = self.solver.evaluate_within(self.out, self.transform_list(transforms), budget_ms=budget_ms)
+        self.show(obj, transforms)
+        return state["converged"]
 
     def refine(self, obj, budget_ms):
         """Continue the last drag frame's iterations; returns whether converged."""
@@ -140,6 +141,9 @@ class Session:
         mesh_data.write_positions(obj, self.out, None if self.write_all else self.solver.touched)
         self.write_all = False
         self.transforms = {n: m.copy() for n, m in transforms.items()}
+
+    def remember(self):
+        """The shape shown now was made by the current transforms (found again after an undo)."""
         self.history[shape_hash(self.out)] = self.transforms
 
 
@@ -197,8 +201,7 @@ def prepare(obj, background=False):
         raise failure(obj, error) from None
     if old is not None:
         old.cancelled = True
-    s = Session(key, rest, tris, movable, transforms)
-    s.name = obj.name
+    s = Session(obj.name, key, rest, tris, movable, transforms)
     if known is not None:
         s.history.update(old.history)  # same rest: the shapes it made stay recognizable
         s.write_all = True

@@ -81,10 +81,11 @@ class FREEFORM_OT_transform(bpy.types.Operator):
                                 f"(handles: {', '.join(s.movable)}); pick one in the panel")
         return name
 
-    def apply(self, obj, budget_ms=None):
+    def moved(self, obj):
+        """The handle transforms of the current properties."""
         t = dict(self.start)
         t[self.handle_name] = self.delta(obj, self.session, self.handle_name) @ self.start[self.handle_name]
-        return self.session.write(obj, t, budget_ms)
+        return t
 
     @reported
     def execute(self, context):
@@ -92,7 +93,7 @@ class FREEFORM_OT_transform(bpy.types.Operator):
         self.session = prepared(obj)
         self.handle_name = self.target(obj, self.session)
         self.start = dict(self.session.transforms)
-        self.apply(obj)
+        self.session.write(obj, self.moved(obj))
         return {'FINISHED'}
 
     # modal --------------------------------------------------------------------------------
@@ -168,7 +169,8 @@ class FREEFORM_OT_transform(bpy.types.Operator):
             else:
                 f = number if number is not None else v.length / max(u.length, 1.0)
                 self.scale = tuple(f if (self.lock is None or self.lock == c) else 1.0 for c in "XYZ")
-        self.converged = self.apply(context.active_object, FRAME_BUDGET_MS)
+        obj = context.active_object
+        self.converged = self.session.drag(obj, self.moved(obj), FRAME_BUDGET_MS)
         self.status(context)
 
     def finish(self, context):
@@ -208,6 +210,7 @@ class FREEFORM_OT_transform(bpy.types.Operator):
         elif t in ('LEFTMOUSE', 'RET', 'NUMPAD_ENTER'):
             while not self.converged:  # the undo step holds the converged shape
                 self.converged = self.session.refine(context.active_object, 1000.0)
+            self.session.remember()
             self.finish(context)
             return {'FINISHED'}
         elif t in ('RIGHTMOUSE', 'ESC'):
