@@ -1,6 +1,6 @@
 // `freeform render MESH [--edit EDIT.json] -o OUT.png [--size WxH] [--view PRESET]
 // [--up z|y] [--camera SPEC] [--show original|deformed] [--wireframe] [--background white|light]
-// [--timings]`: headless rendering (EGL, no display) with the renderer the editor uses
+// [--band auto|on|off] [--timings]`: headless rendering (EGL, no display) with the renderer the editor uses
 // (src/viewer/). With --edit the regions are coloured (support blue, handles green, fixed
 // gray; docs/render.md) on the deformed (default) or the original shape.
 #include "commands.h"
@@ -13,6 +13,7 @@
 #include "viewer/camera.h"
 #include "viewer/egl_context.h"
 #include "viewer/gl_util.h"
+#include "viewer/legend.h"
 #include "viewer/offscreen.h"
 #include "viewer/region_colors.h"
 #include "viewer/render_scene.h"
@@ -38,7 +39,8 @@ using Clock = std::chrono::steady_clock;
 constexpr int kDrawRepeats = 5;  // --timings: the draw time is the median of these
 
 struct RenderOptions {
-  std::string mesh, edit, out, size = "640x480", view = "front", camera, show = "deformed", background = "white", up = "z";
+  std::string mesh, edit, out, size = "640x480", view = "front", camera, show = "deformed", background = "white", up = "z",
+      band = "auto";
   bool wireframe = false, timings = false;
   int samples = 4;
 };
@@ -76,9 +78,17 @@ void run(const RenderOptions& opt) {
   const Mesh mesh = Mesh::from_soup(read.soup);
   vw::RenderScene scene = vw::make_scene(mesh, vw::kPlainColor);
   vw::BoundingBox frame = scene.bounds;  // fitted to original and deformed: both renders align
+  int legend_order = 0;  // draw the smoothness legend for this order (0: none)
   if (!opt.edit.empty()) {
     const Edit edit = read_edit_file(opt.edit, mesh);
-    vw::set_colors(scene, vw::region_colors(edit_regions(mesh, edit)));
+    const Regions regions = edit_regions(mesh, edit);
+    std::vector<vw::Rgb> colors = vw::region_colors(regions);
+    const bool band = opt.band == "on" || (opt.band == "auto" && !edit.settings.smoothness.segments.empty());
+    if (band && edit.settings.order > 1) {
+      vw::color_smoothness_band(colors, mesh, regions, edit.settings);
+      legend_order = edit.settings.order;
+    }
+    vw::set_colors(scene, colors);
     const Mesh deformed = deform(mesh, edit);  // throws on a non-finite result
     vw::RenderScene moved = scene;
     vw::update_geometry(moved, deformed.positions());
@@ -120,7 +130,8 @@ void run(const RenderOptions& opt) {
     }
     const double first_draw_ms = draws.front();
     t0 = Clock::now();
-    const std::vector<std::uint8_t> rgba = target.read_rgba();
+    std::vector<std::uint8_t> rgba = target.read_rgba();
+    vw::draw_smoothness_legend(rgba, width, height, legend_order);
     const double readback_ms = ms_since(t0);
     t0 = Clock::now();
     png = vw::encode_png(rgba, width, height);
@@ -165,6 +176,10 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--show", opt->show, "With --edit: draw the deformed or the original shape")
       ->check(CLI::IsMember({"original", "deformed"}))
       ->capture_default_str();
+  cmd->add_option("--band", opt->band,
+                  "With --edit: colour the boundary-smoothness band by c, with a legend (auto: if the edit has segments)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
   cmd->add_flag("--wireframe", opt->wireframe, "Overlay the triangle edges");
   cmd->add_option("--background", opt->background, "white or light (light gray)")
       ->check(CLI::IsMember({"white", "light"}))
@@ -176,7 +191,8 @@ void add_render_command(CLI::App& app) {
   cmd->footer(
       "Headless: EGL (Mesa surfaceless or an EGL device), no display needed. The view is fitted to the bounding box\n"
       "of the mesh (with --edit: of the original and the deformed shape, so both renders align).\n"
-      "Colours with --edit: support blue, movable handles green, fixed gray, immovable handles dark gray.\n"
+      "Colours with --edit: support blue, movable handles green, fixed gray, immovable handles dark gray; with --band the\n"
+      "fixed and handle vertices where boundary smoothness acts go red (C0) - amber (C1) - violet (C2).\n"
       "Exit codes: 0 ok, 1 bad input (mesh, edit), 2 bad command line, 3 no OpenGL/EGL or output not written.");
   cmd->callback([opt] { run(*opt); });
 }

@@ -323,7 +323,8 @@ bool App::update_geometry(bool timed) {
       camera_.set_bounds(scene_.bounds);
       geometry = true;
     }
-    if (doc_.region_version() != shown_region_version_ || doc_.active_handle() != shown_active_handle_) {
+    if (doc_.region_version() != shown_region_version_ || doc_.active_handle() != shown_active_handle_ ||
+        band_shown() != shown_band_ || doc_.active_segment() != shown_active_segment_) {
       recolor();
       renderer_->update_colors(scene_);
     }

@@ -129,6 +129,9 @@ class App {
   // overlay.cpp
   void draw_overlays();
   void recolor();  // region colours of the current edit (support blue, handles green, ...)
+  // Colour the smoothness band by c: while painting segments or when there are some.
+  bool band_shown() const;
+  void panel_segments();  // boundary smoothness segments: list, value sliders, legend
 
   // Screen layout in window pixels: the panel on the left, the status line at the bottom,
   // the 3D viewport in the rest.
@@ -161,6 +164,8 @@ class App {
   bool scene_uploaded_ = false;
   std::uint64_t shown_display_version_ = 0, shown_region_version_ = 0, shown_reset_version_ = 0;
   int shown_active_handle_ = -2;
+  bool shown_band_ = false;  // the smoothness band is coloured by c
+  int shown_active_segment_ = -2;
   std::string save_path_;  // where Ctrl+S writes (set by Save as)
   std::string shown_background_error_;
   EditParameters param_edit_;  // the parameters while a slider is dragged

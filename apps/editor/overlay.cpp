@@ -2,7 +2,7 @@
 // panel): the brush circle at the cursor, the lasso polyline, the manipulator gizmo and the
 // running transform's status; and the region colours of the mesh (viewer/region_colors.h
 // palette: support blue, movable handles green, fixed gray, immovable handles darker gray,
-// the active handle brighter).
+// the active handle brighter; the smoothness band by c, the active segment brighter).
 #include "app.h"
 
 #include "viewer/region_colors.h"
@@ -29,15 +29,23 @@ ImU32 mode_color(PaintMode mode, bool erase) {
     case PaintMode::Support: return IM_COL32(60, 110, 245, 255);
     case PaintMode::Handle: return IM_COL32(40, 170, 60, 255);
     case PaintMode::Immovable: return IM_COL32(90, 90, 90, 255);
+    case PaintMode::Boundary: return IM_COL32(235, 150, 20, 255);
   }
   return IM_COL32(255, 255, 255, 255);
 }
 
 }  // namespace
 
+bool App::band_shown() const {
+  return doc_.has_mesh() && doc_.parameters().order > 1 &&
+         (tools_.options.mode == PaintMode::Boundary || !doc_.parameters().segments.empty());
+}
+
 void App::recolor() {
   shown_region_version_ = doc_.region_version();
   shown_active_handle_ = doc_.active_handle();
+  shown_band_ = band_shown();
+  shown_active_segment_ = doc_.active_segment();
   if (!doc_.has_mesh() || scene_.n_vertices() != doc_.state().n_vertices()) return;
   const viewer::RegionPalette palette;
   const EditState& st = doc_.state();
@@ -57,6 +65,14 @@ void App::recolor() {
     } else if (flags[v]) {
       colors[v] = palette.free;
     }
+  }
+  if (shown_band_ && doc_.regions_problem().empty()) {
+    const Mesh& rest = doc_.rest_mesh();
+    viewer::color_smoothness_band(colors, rest, st.regions(rest), st.settings());
+    const int seg = doc_.active_segment();  // the segment being edited stands out
+    if (seg >= 0)
+      for (Vertex v : st.parameters().segments[static_cast<std::size_t>(seg)].vertices)
+        colors[static_cast<std::size_t>(v.idx())] = brighter(colors[static_cast<std::size_t>(v.idx())], 0.35f);
   }
   viewer::set_colors(scene_, colors);
 }

@@ -2,6 +2,8 @@
 // every change goes to the Document / ToolController / camera at once.
 #include "app.h"
 
+#include "viewer/region_colors.h"
+
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 #include <imgui_stdlib.h>
@@ -134,6 +136,9 @@ void App::panel_regions() {
   ImGui::RadioButton("handle", &mode, static_cast<int>(PaintMode::Handle));
   ImGui::SameLine();
   ImGui::RadioButton("immovable", &mode, static_cast<int>(PaintMode::Immovable));
+  ImGui::SameLine();
+  ImGui::RadioButton("boundary", &mode, static_cast<int>(PaintMode::Boundary));
+  help_marker("Paint a stretch of the boundary band (where smoothness acts) into the active smoothness segment");
   opt.tool = static_cast<Tool>(tool);
   opt.mode = static_cast<PaintMode>(mode);
 
@@ -217,6 +222,7 @@ void App::panel_parameters() {
   slider_done |= ImGui::IsItemDeactivatedAfterEdit();
   help_marker("Continuity across the handle boundaries: 0 = crease (C0) ... k-1 = smooth");
   ImGui::EndDisabled();
+  panel_segments();
   ImGui::Checkbox("anisotropic", &p.anisotropic);
   help_marker("Bending that follows the support's shape (docs/anisotropic.md)");
   ImGui::SameLine();
@@ -263,6 +269,53 @@ void App::panel_parameters() {
       if (shown_problems_) problems_line(*shown_problems_);
     }
   }
+}
+
+void App::panel_segments() {
+  const EditParameters& current = doc_.parameters();
+  if (current.order == 1) return;  // a membrane is always C0
+  ImGui::Text("Boundary segments (%zu)", current.segments.size());
+  ImGui::SameLine();
+  if (ImGui::SmallButton("New segment")) {
+    tools_.options.mode = PaintMode::Boundary;
+    attempt("new segment", [&] { doc_.set_active_segment(-1); });
+  }
+  help_marker("Paint a stretch of the coloured band next: it gets its own smoothness (starts at C0, a crease)");
+  if (tools_.options.mode == PaintMode::Boundary || !current.segments.empty()) {  // the legend of the band colours
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    const ImVec2 at = ImGui::GetCursorScreenPos();
+    const float w = 8.0f * ImGui::GetFontSize(), h = 0.6f * ImGui::GetFontSize();
+    const int top = current.order - 1;
+    for (int i = 0; i < 64; ++i) {
+      const viewer::Rgb c = viewer::smoothness_color(top * (i + 0.5) / 64.0);
+      dl->AddRectFilled(ImVec2(at.x + w * i / 64.0f, at.y), ImVec2(at.x + w * (i + 1) / 64.0f + 0.5f, at.y + h),
+                        ImGui::ColorConvertFloat4ToU32(ImVec4(c[0], c[1], c[2], 1.0f)));
+    }
+    ImGui::Dummy(ImVec2(w, h));
+    ImGui::SameLine();
+    ImGui::TextDisabled(top == 1 ? "C0 .. C1 (band colour)" : "C0 .. C1 .. C2 (band colour)");
+  }
+  int to_delete = -1, committed = -1;
+  const float max_c = static_cast<float>(current.order - 1);
+  for (std::size_t i = 0; i < current.segments.size() && i < param_edit_.segments.size(); ++i) {
+    ImGui::PushID(static_cast<int>(i));
+    const std::string label = fmt::format("{}: {} vertices", i, current.segments[i].vertices.size());
+    if (ImGui::Selectable(label.c_str(), static_cast<int>(i) == doc_.active_segment(), 0, ImVec2(8.0f * ImGui::GetFontSize(), 0)))
+      attempt("select segment", [&] { doc_.set_active_segment(static_cast<int>(i)); });
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(8.0f * ImGui::GetFontSize());
+    float value = static_cast<float>(param_edit_.segments[i].value);
+    if (ImGui::SliderFloat("##c", &value, 0.0f, max_c, "C%.2f")) param_edit_.segments[i].value = value;
+    if (ImGui::IsItemDeactivatedAfterEdit()) committed = static_cast<int>(i);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("delete")) to_delete = static_cast<int>(i);
+    ImGui::PopID();
+  }
+  if (committed >= 0) {
+    const double value = param_edit_.segments[static_cast<std::size_t>(committed)].value;
+    attempt("segment smoothness", [&] { doc_.set_segment_value(committed, value); });
+  }
+  if (to_delete >= 0) attempt("delete segment", [&] { doc_.delete_segment(to_delete); });
 }
 
 void App::problems_line(const EditProblems& p) {

@@ -1,6 +1,7 @@
 #include "editor/document.h"
 
 #include "editor/session.h"
+#include "freeform/bcm/boundary_band.h"
 #include "freeform/edit/edit_json.h"
 #include "freeform/edit/edit_solver.h"
 #include "freeform/common/error.h"
@@ -11,6 +12,7 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <iterator>
 
 namespace freeform::editor {
 namespace {
@@ -28,6 +30,7 @@ const char* paint_label(PaintMode mode, bool remove) {
     case PaintMode::Support: return remove ? "erase support" : "paint support";
     case PaintMode::Handle: return remove ? "erase handle" : "paint handle";
     case PaintMode::Immovable: return remove ? "erase immovable handle" : "paint immovable handle";
+    case PaintMode::Boundary: return remove ? "erase smoothness segment" : "paint smoothness segment";
   }
   return "paint";
 }
@@ -55,6 +58,7 @@ void Document::reset(std::shared_ptr<const Mesh> rest, std::string path) {
   applied_.clear();
   stroke_.reset();
   active_ = -1;
+  active_segment_ = -1;
   solver_.reset();
   ++request_tag_;
   display_ = rest_->positions();
@@ -109,6 +113,7 @@ void Document::play_step(const Step& step, bool forward) {
 
 void Document::after_change(bool regions, bool solver) {
   if (active_ != -1 && !state_.find_handle(active_)) active_ = -1;
+  if (active_segment_ >= static_cast<int>(state_.parameters().segments.size())) active_segment_ = -1;
   if (regions) ++region_version_;
   display_stale_ = true;
   dirty_ = true;
@@ -144,8 +149,76 @@ TransformDelta Document::recentre(int id) const {
 void Document::begin_stroke(PaintMode mode, bool remove) {
   require_mesh();
   end_stroke();
-  stroke_ = Stroke{mode, remove, {}, std::nullopt};
+  stroke_ = Stroke{mode, remove, {}, std::nullopt, state_.parameters(), {}};
+  if (mode == PaintMode::Boundary) {
+    stroke_->in_band.assign(static_cast<std::size_t>(state_.n_vertices()), 0);
+    for (Vertex v : smoothness_band()) stroke_->in_band[static_cast<std::size_t>(v.idx())] = 1;
+  }
 }
+
+const std::vector<Vertex>& Document::smoothness_band() {
+  require_mesh();
+  if (band_version_ != region_version_) {
+    band_.clear();
+    if (state_.problem(*rest_).empty())
+      band_ = freeform::smoothness_band(*rest_, state_.regions(*rest_), state_.parameters().order);
+    band_version_ = region_version_;
+  }
+  return band_;
+}
+
+void Document::set_active_segment(int index) {
+  if (index < -1 || index >= static_cast<int>(state_.parameters().segments.size()))
+    throw InvalidInput("there is no smoothness segment " + std::to_string(index));
+  active_segment_ = index;
+}
+
+void Document::set_segment_value(int index, double c) {
+  require_mesh();
+  EditParameters p = state_.parameters();
+  if (index < 0 || index >= static_cast<int>(p.segments.size()))
+    throw InvalidInput("there is no smoothness segment " + std::to_string(index));
+  p.segments[static_cast<std::size_t>(index)].value = c;
+  set_parameters(p);
+}
+
+void Document::delete_segment(int index) {
+  require_mesh();
+  EditParameters p = state_.parameters();
+  if (index < 0 || index >= static_cast<int>(p.segments.size()))
+    throw InvalidInput("there is no smoothness segment " + std::to_string(index));
+  p.segments.erase(p.segments.begin() + index);
+  set_parameters(p);
+}
+
+void Document::stroke_segment(std::span<const Vertex> vertices) {
+  Stroke& s = *stroke_;
+  EditParameters p = state_.parameters();
+  if (active_segment_ < 0) {
+    if (s.remove) return;
+    p.segments.push_back(SmoothnessSegment{{}, 0.0});
+    active_segment_ = static_cast<int>(p.segments.size()) - 1;
+  }
+  std::vector<Vertex>& seg = p.segments[static_cast<std::size_t>(active_segment_)].vertices;
+  const std::size_t before = seg.size();
+  std::vector<Vertex> painted;
+  for (Vertex v : vertices)
+    if (s.in_band[static_cast<std::size_t>(v.idx())]) painted.push_back(v);
+  std::sort(painted.begin(), painted.end());
+  if (s.remove) {
+    std::vector<Vertex> kept;
+    std::set_difference(seg.begin(), seg.end(), painted.begin(), painted.end(), std::back_inserter(kept));
+    seg = std::move(kept);
+  } else {
+    std::vector<Vertex> merged;
+    std::set_union(seg.begin(), seg.end(), painted.begin(), painted.end(), std::back_inserter(merged));
+    seg = std::move(merged);
+  }
+  if (seg.size() == before && active_segment_ < static_cast<int>(state_.parameters().segments.size())) return;
+  state_.set_parameters(p);
+  ++region_version_;
+}
+
 
 int Document::paint_target(PaintMode mode) {
   const bool movable = mode == PaintMode::Handle;
@@ -167,6 +240,7 @@ void Document::stroke(std::span<const Vertex> vertices) {
       throw InvalidInput("vertex " + std::to_string(v.idx()) + " is outside the mesh (" +
                          std::to_string(state_.n_vertices()) + " vertices)");
   if (vertices.empty()) return;
+  if (stroke_->mode == PaintMode::Boundary) return stroke_segment(vertices);
   Stroke& s = *stroke_;
   const bool handle_mode = s.mode != PaintMode::Support;
   const int target = handle_mode && !s.remove ? paint_target(s.mode) : -1;
@@ -193,6 +267,18 @@ void Document::end_stroke() {
   Stroke s = std::move(*stroke_);
   stroke_.reset();
   Step step{paint_label(s.mode, s.remove), {}};
+  if (s.mode == PaintMode::Boundary) {
+    EditParameters p = state_.parameters();
+    const auto active = static_cast<std::size_t>(active_segment_);
+    if (active_segment_ >= 0 && active < p.segments.size() && p.segments[active].vertices.empty()) {
+      p.segments.erase(p.segments.begin() + active_segment_);
+      active_segment_ = -1;
+    }
+    state_.set_parameters(p);
+    ++region_version_;
+    if (p == s.parameters_before) return;  // nothing painted: no step
+    step.deltas.emplace_back(ParametersDelta{s.parameters_before, p});
+  }
   if (s.created) step.deltas.emplace_back(HandleAdded{*s.created});
   std::vector<int> touched;
   RegionDelta r = s.recorder.finish(state_, &touched);

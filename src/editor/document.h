@@ -32,8 +32,11 @@ namespace freeform::editor {
 // the active immovable handle (a new one is created if none of that kind is active). With
 // `remove` Support clears flags and Handle/Immovable take vertices out of any handle of
 // that kind. Handle vertices always count as support; a vertex painted into a handle leaves
-// any other handle.
-enum class PaintMode { Support, Handle, Immovable };
+// any other handle. Boundary paints the smoothness band (smoothness_band(): the fixed and
+// handle vertices within k-1 rings of the free region; other vertices are skipped) into the
+// active smoothness segment, a new one with c = 0 (a crease) if none is active; `remove`
+// takes vertices out of the active segment, and a segment left empty is deleted.
+enum class PaintMode { Support, Handle, Immovable, Boundary };
 
 class Document {
  public:
@@ -75,6 +78,15 @@ class Document {
   bool stroking() const { return stroke_.has_value(); }
   // A whole selection (grow/shrink/flood/lasso results) as one step.
   void set_region(PaintMode mode, std::span<const Vertex> vertices, bool remove);
+
+  // --- boundary smoothness segments (EditParameters::segments) ---
+  // The vertices where boundary smoothness acts for the current regions and order (empty
+  // while the regions have a problem); cached per region_version().
+  const std::vector<Vertex>& smoothness_band();
+  int active_segment() const { return active_segment_; }  // index or -1
+  void set_active_segment(int index);                     // -1 or an existing index; not a step
+  void set_segment_value(int index, double c);            // one step; c clamped to [0, k-1]
+  void delete_segment(int index);                         // one step
 
   // --- handles, regions, parameters (one step each) ---
   int new_handle(bool movable);  // empty, becomes active; returns its id
@@ -162,6 +174,8 @@ class Document {
     bool remove = false;
     RegionRecorder recorder;
     std::optional<HandleState> created;  // the handle this stroke made
+    EditParameters parameters_before;    // Boundary strokes change the segments live
+    std::vector<char> in_band;           // Boundary strokes: the band when the stroke began
   };
 
   std::shared_ptr<const Mesh> rest_;
@@ -172,6 +186,9 @@ class Document {
   std::vector<Edit> applied_;
   std::optional<Stroke> stroke_;
   int active_ = -1;
+  int active_segment_ = -1;
+  std::vector<Vertex> band_;
+  std::uint64_t band_version_ = ~std::uint64_t{0};  // region_version_ of band_
   std::string problem_;
   bool dirty_ = false;
   bool input_overwritten_ = false;  // save_mesh replaced the original file
@@ -201,6 +218,7 @@ class Document {
   void after_change(bool regions, bool solver);
   void request_precompute();
   int paint_target(PaintMode mode);
+  void stroke_segment(std::span<const Vertex> vertices);
   TransformDelta recentre(int id) const;  // pivot -> rest centroid, map kept
 };
 

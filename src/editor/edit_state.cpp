@@ -1,5 +1,6 @@
 #include "editor/edit_state.h"
 
+#include "freeform/bcm/boundary_band.h"
 #include "freeform/common/error.h"
 
 #include <algorithm>
@@ -27,6 +28,10 @@ EditParameters normalized(EditParameters p) {
   const double top = p.order - 1.0;
   p.outer = std::clamp(p.outer, 0.0, top);
   p.inner = std::clamp(p.inner, 0.0, top);
+  for (SmoothnessSegment& s : p.segments) {
+    if (!std::isfinite(s.value)) throw InvalidInput("segment smoothness must be a finite number");
+    s.value = std::clamp(s.value, 0.0, top);
+  }
   return p;
 }
 
@@ -195,6 +200,7 @@ BcmSettings EditState::settings() const {
   s.order = params_.order;
   s.smoothness.outer = params_.outer;
   s.smoothness.inner = params_.inner;
+  s.smoothness.segments = params_.segments;
   s.anisotropic = params_.anisotropic;
   return s;
 }
@@ -212,17 +218,26 @@ Edit EditState::to_edit(const Mesh& rest) const {
     if (h.movable) eh.matrix = h.manipulator.pivot ? h.transform() : h.transform(centroid(rest, eh.vertices));
     e.handles.push_back(std::move(eh));
   }
+  auto& segments = e.settings.smoothness.segments;
+  if (!segments.empty() && problem(rest).empty()) {
+    std::vector<char> in_band(static_cast<std::size_t>(n_vertices()), 0);
+    for (Vertex v : smoothness_band(rest, regions(rest), params_.order)) in_band[static_cast<std::size_t>(v.idx())] = 1;
+    for (SmoothnessSegment& seg : segments)
+      std::erase_if(seg.vertices, [&](Vertex v) { return !in_band[static_cast<std::size_t>(v.idx())]; });
+    std::erase_if(segments, [](const SmoothnessSegment& seg) { return seg.vertices.empty(); });
+  }
   return e;
 }
 
 EditState EditState::from_edit(const Edit& edit, const Mesh& rest, int first_id) {
-  if (!edit.settings.smoothness.overrides.empty())
-    throw InvalidInput("the edit has per-vertex smoothness overrides, which the editor cannot show or change");
   EditState s(rest.n_vertices());
   EditParameters p;
   p.order = edit.settings.order;
   p.outer = resolved_outer(edit.settings);
   p.inner = resolved_inner(edit.settings);
+  p.segments = edit.settings.smoothness.segments;
+  for (const SmoothnessSegment& seg : p.segments)
+    for (Vertex v : seg.vertices) s.check_vertex(v);
   p.anisotropic = edit.settings.anisotropic;
   p.multiresolution = edit.multiresolution;
   p.nonlinear = edit.deformation == Deformation::Nonlinear;

@@ -24,11 +24,14 @@ struct EditParameters {
   bool anisotropic = false;
   bool multiresolution = true;
   bool nonlinear = false;      // the nonlinear model (large rotations, docs/nonlinear.md)
+  // Stretches of the boundary with their own smoothness (later ones win). The editor keeps
+  // the painted vertices; to_edit() drops those outside the current smoothness band.
+  std::vector<SmoothnessSegment> segments;
   bool operator==(const EditParameters&) const = default;
 };
 
 // Throws InvalidInput for an order outside {1, 2, 3} or a non-finite smoothness; clamps
-// outer/inner into [0, order-1] (so lowering the order clamps the smoothness).
+// outer/inner and segment values into [0, order-1] (so lowering the order clamps them).
 EditParameters normalized(EditParameters p);
 
 struct HandleState {
@@ -107,13 +110,15 @@ class EditState {
   Regions regions(const Mesh& rest) const;  // throws InvalidInput as Regions does
   BcmSettings settings() const;             // order, smoothness, anisotropic
 
-  // The edit: vertex-index selectors, handles in order, and per movable handle the exact
-  // affine map the editor evaluates as "matrix" (so deform() replays it bit for bit).
+  // The edit: vertex-index selectors, handles in order, per movable handle the exact affine
+  // map the editor evaluates as "matrix" (so deform() replays it bit for bit), and the
+  // smoothness segments cut to the smoothness band (segments left empty are dropped: they do
+  // nothing, and an edit file refuses them).
   Edit to_edit(const Mesh& rest) const;
   // The state of an edit: handle i gets id first_id + i; a matrix handle keeps its matrix
   // under an identity manipulator, a manipulator handle keeps its manipulator; unset pivots
   // become the rest centroid. Throws InvalidInput for overlapping handles, indices outside
-  // the mesh, per-vertex smoothness overrides.
+  // the mesh.
   static EditState from_edit(const Edit& edit, const Mesh& rest, int first_id = 0);
 
   // Exact equality of regions, handles (order, ids, transforms bitwise) and parameters.

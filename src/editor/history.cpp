@@ -69,7 +69,7 @@ bool Step::changes_solver() const {
 bool Step::changes_regions() const {
   return std::any_of(deltas.begin(), deltas.end(), [](const Delta& d) {
     return std::holds_alternative<RegionDelta>(d) || std::holds_alternative<HandleAdded>(d) ||
-           std::holds_alternative<HandleRemoved>(d);
+           std::holds_alternative<HandleRemoved>(d) || std::holds_alternative<ParametersDelta>(d);
   });
 }
 

@@ -83,7 +83,7 @@ struct Step {
   bool empty() const { return deltas.empty(); }
   // Whether playing it changes what the solver depends on (regions, handles, parameters, rest).
   bool changes_solver() const;
-  bool changes_regions() const;  // painted regions or the handle list
+  bool changes_regions() const;  // the colours: painted regions, the handle list, smoothness
   std::size_t memory_bytes() const;
 };
 

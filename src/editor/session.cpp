@@ -85,7 +85,7 @@ class Reader : JsonReader {
     keys(j, p, {"parameters", "support", "handles", "active_handle"});
     const int n = s.n_vertices;
     EditState state(n);
-    if (j.contains("parameters")) state.set_parameters(parameters(j["parameters"], at(p, "parameters")));
+    if (j.contains("parameters")) state.set_parameters(parameters(j["parameters"], at(p, "parameters"), n));
     if (j.contains("support")) {
       const Json& list = array(j["support"], at(p, "support"));
       for (std::size_t i = 0; i < list.size(); ++i) state.set_vertex(vertex(list[i], at(at(p, "support"), i), n), true, -1);
@@ -105,9 +105,9 @@ class Reader : JsonReader {
     s.current = std::move(state);
   }
 
-  EditParameters parameters(const Json& j, const std::string& p) const {
+  EditParameters parameters(const Json& j, const std::string& p, int n) const {
     object(j, p);
-    keys(j, p, {"order", "outer", "inner", "anisotropic", "multiresolution", "nonlinear"});
+    keys(j, p, {"order", "outer", "inner", "anisotropic", "multiresolution", "nonlinear", "segments"});
     EditParameters e;
     if (j.contains("order")) {
       const long long k = integer(j["order"], at(p, "order"));
@@ -126,6 +126,24 @@ class Reader : JsonReader {
     if (j.contains("anisotropic")) e.anisotropic = boolean(j["anisotropic"], at(p, "anisotropic"));
     if (j.contains("multiresolution")) e.multiresolution = boolean(j["multiresolution"], at(p, "multiresolution"));
     if (j.contains("nonlinear")) e.nonlinear = boolean(j["nonlinear"], at(p, "nonlinear"));
+    if (j.contains("segments")) {
+      const std::string sp = at(p, "segments");
+      const Json& list = array(j["segments"], sp);
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        const std::string ip = at(sp, i);
+        object(list[i], ip);
+        keys(list[i], ip, {"vertices", "value"});
+        SmoothnessSegment seg;
+        seg.value = number(required(list[i], ip, "value"), at(ip, "value"));
+        if (seg.value < 0.0 || seg.value > e.order - 1)
+          fail(q(at(ip, "value")) + " must be in [0, " + std::to_string(e.order - 1) + "], got " + num(seg.value));
+        const Json& vs = array(required(list[i], ip, "vertices"), at(ip, "vertices"));
+        for (std::size_t k = 0; k < vs.size(); ++k) seg.vertices.push_back(vertex(vs[k], at(at(ip, "vertices"), k), n));
+        std::sort(seg.vertices.begin(), seg.vertices.end());
+        seg.vertices.erase(std::unique(seg.vertices.begin(), seg.vertices.end()), seg.vertices.end());
+        e.segments.push_back(std::move(seg));
+      }
+    }
     return e;
   }
 
@@ -194,6 +212,15 @@ std::string session_text(const Session& s) {
                   {"anisotropic", s.current.parameters().anisotropic},
                   {"multiresolution", s.current.parameters().multiresolution},
                   {"nonlinear", s.current.parameters().nonlinear}}}};
+  if (!s.current.parameters().segments.empty()) {
+    Json segments = Json::array();
+    for (const SmoothnessSegment& seg : s.current.parameters().segments) {
+      Json vs = Json::array();
+      for (Vertex v : seg.vertices) vs.push_back(v.idx());
+      segments.push_back(Json{{"vertices", std::move(vs)}, {"value", seg.value}});
+    }
+    current["parameters"]["segments"] = std::move(segments);
+  }
   Json support = Json::array();
   for (int v = 0; v < s.current.n_vertices(); ++v)
     if (s.current.support_flag(Vertex(v))) support.push_back(v);

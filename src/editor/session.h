@@ -6,7 +6,8 @@
 //    "mesh": {"path": "/abs/plane.off", "relative": "plane.off", "vertices": 441},
 //    "applied": [EDIT, ...],
 //    "current": {"parameters": {"order": 3, "outer": 2.0, "inner": 2.0, "anisotropic": false,
-//                               "multiresolution": true},
+//                               "multiresolution": true, "nonlinear": false,
+//                               "segments": [{"vertices": [...], "value": 0.0}]},  // optional
 //                "support": [vertex, ...],          // painted support flags (handles add theirs)
 //                "handles": [{"id": 0, "movable": true, "vertices": [...],
 //                             "manipulator": {"translation": [x,y,z], "rotation": [w,x,y,z],

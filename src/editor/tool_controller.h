@@ -70,7 +70,7 @@ class ToolController {
   bool key(Key key, const Modifiers& mods);
   bool character(char c);  // typed amount while a G / R / S transform runs
 
-  // Panel actions on the region of the current paint mode (support, or the active handle).
+  // Panel actions on the region of the current paint mode (support, active handle or segment).
   void grow();
   void shrink();
 
@@ -112,7 +112,7 @@ class ToolController {
   const ScreenPicker& picker();
   void dab(const Eigen::Vector2d& px);
   void paint(const std::vector<Vertex>& vertices, bool remove);
-  // The region of the paint mode: the support, or the active handle if it is of that kind.
+  // The region of the paint mode: the support, the active handle of that kind, or the active segment.
   std::vector<Vertex> region_vertices() const;
   // Active movable handle: its id, its manipulator recentred so that pivot + t is its centre.
   std::optional<int> active_movable() const;

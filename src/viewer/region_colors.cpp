@@ -1,5 +1,9 @@
 #include "viewer/region_colors.h"
 
+#include "freeform/bcm/boundary_band.h"
+
+#include <algorithm>
+
 namespace freeform::viewer {
 
 std::vector<Rgb> region_colors(const Regions& regions, const RegionPalette& palette) {
@@ -16,6 +20,23 @@ std::vector<Rgb> region_colors(const Regions& regions, const RegionPalette& pale
     }
   }
   return out;
+}
+
+Rgb smoothness_color(double c) {
+  static constexpr Rgb kStops[3] = {{0.90f, 0.18f, 0.12f}, {0.98f, 0.72f, 0.10f}, {0.58f, 0.30f, 0.88f}};
+  const double t = std::clamp(c, 0.0, 2.0);
+  const int i = std::min(static_cast<int>(t), 1);
+  const auto f = static_cast<float>(t - i);
+  Rgb out;
+  for (std::size_t k = 0; k < 3; ++k) out[k] = kStops[i][k] + f * (kStops[i + 1][k] - kStops[i][k]);
+  return out;
+}
+
+void color_smoothness_band(std::vector<Rgb>& colors, const Mesh& mesh, const Regions& regions,
+                           const BcmSettings& settings) {
+  const std::vector<double> c = smoothness_per_vertex(regions, settings);
+  for (Vertex v : smoothness_band(mesh, regions, settings.order))
+    colors[static_cast<std::size_t>(v.idx())] = smoothness_color(c[static_cast<std::size_t>(v.idx())]);
 }
 
 }  // namespace freeform::viewer

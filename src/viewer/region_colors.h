@@ -4,6 +4,7 @@
 
 #include "viewer/render_scene.h"
 
+#include "freeform/bcm/settings.h"
 #include "freeform/regions/regions.h"
 
 #include <vector>
@@ -22,5 +23,14 @@ inline constexpr Rgb kPlainColor{0.80f, 0.78f, 0.74f};
 
 // One colour per vertex of the regions' mesh.
 std::vector<Rgb> region_colors(const Regions& regions, const RegionPalette& palette = {});
+
+// Boundary smoothness c on one scale for every order: red at C0 (a crease), amber at C1,
+// violet at C2, linear in between (c is clamped to [0, 2]).
+Rgb smoothness_color(double c);
+
+// Recolours the smoothness band (bcm/boundary_band.h: where c acts) by smoothness_color of
+// each band vertex's c; `colors` has one entry per vertex.
+void color_smoothness_band(std::vector<Rgb>& colors, const Mesh& mesh, const Regions& regions,
+                           const BcmSettings& settings);
 
 }  // namespace freeform::viewer

@@ -91,7 +91,7 @@ inline Eigen::Affine3d random_general_affine(std::mt19937& rng) {
 inline double lam(double c, int m) { return std::min(1.0, std::max(0.0, c - m + 1.0)); }
 
 // c(v) for every vertex, written out independently of the library.
-inline std::vector<double> smoothness_per_vertex(const Regions& regions, const BcmSettings& s) {
+inline std::vector<double> reference_smoothness(const Regions& regions, const BcmSettings& s) {
   const int k = s.order;
   const double outer = s.smoothness.outer == -1.0 ? k - 1.0 : s.smoothness.outer;
   const double inner = s.smoothness.inner == -1.0 ? k - 1.0 : s.smoothness.inner;
@@ -100,8 +100,9 @@ inline std::vector<double> smoothness_per_vertex(const Regions& regions, const B
     const Role r = regions.role(Vertex(i));
     c[static_cast<std::size_t>(i)] = r == Role::Free ? k - 1.0 : r == Role::Fixed ? outer : inner;
   }
-  for (const auto& [v, cv] : s.smoothness.overrides)
-    if (regions.role(v) != Role::Free) c[static_cast<std::size_t>(v.idx())] = cv;
+  for (const SmoothnessSegment& seg : s.smoothness.segments)
+    for (Vertex v : seg.vertices)
+      if (regions.role(v) != Role::Free) c[static_cast<std::size_t>(v.idx())] = seg.value;
   return c;
 }
 
@@ -109,7 +110,7 @@ inline std::vector<double> smoothness_per_vertex(const Regions& regions, const B
 inline Eigen::SparseMatrix<double> global_s(const Mesh& mesh, const Regions& regions, const BcmSettings& s) {
   const Eigen::SparseMatrix<double> lap = cotan_laplacian(mesh);
   const Eigen::VectorXd d = inverse_double_areas(mixed_voronoi_areas(mesh));
-  const std::vector<double> c = smoothness_per_vertex(regions, s);
+  const std::vector<double> c = reference_smoothness(regions, s);
   Eigen::SparseMatrix<double> sk = lap;
   for (int m = 1; m < s.order; ++m) {
     Eigen::VectorXd w(mesh.n_vertices());

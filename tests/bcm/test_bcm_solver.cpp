@@ -59,7 +59,7 @@ TEST(BcmSolver, BasisMatchesDirectSolveWithMovedHandles) {
   }
 }
 
-TEST(BcmSolver, BasisMatchesDirectSolveWithSmoothnessOverridesAndOpenBoundary) {
+TEST(BcmSolver, BasisMatchesDirectSolveWithSmoothnessSegmentsAndOpenBoundary) {
   // Support touching the mesh boundary on three sides (free vertices on the open boundary).
   const Mesh mesh = Mesh::from_soup(make_bumpy_plane(20, 20, 0.1, 1.0));
   std::vector<Vertex> support, handle;
@@ -74,8 +74,10 @@ TEST(BcmSolver, BasisMatchesDirectSolveWithSmoothnessOverridesAndOpenBoundary) {
     SCOPED_TRACE("k=" + std::to_string(k));
     BcmSettings s;
     s.order = k;
+    SmoothnessSegment seg{{}, 0.3 * (k - 1)};
     for (Vertex v : mesh.vertices())
-      if (regions.role(v) == Role::Fixed && mesh.position(v).x() < 0.5) s.smoothness.overrides.emplace_back(v, 0.3 * (k - 1));
+      if (regions.role(v) == Role::Fixed && mesh.position(v).x() < 0.5) seg.vertices.push_back(v);
+    s.smoothness.segments = {seg};
     const BcmSolver solver(mesh, regions, s);
     const std::vector<Eigen::Affine3d> t = {random_affine(rng)};
     EXPECT_LT(rel_diff(evaluate(solver, t), reference_solve(mesh, regions, s, t)), 1e-8);

@@ -66,7 +66,7 @@ TEST(Settings, Validation) {
     b.smoothness.inner = bad;
     EXPECT_THROW(validate_settings(b), InvalidInput) << bad;
     BcmSettings c = s;
-    c.smoothness.overrides = {{Vertex(0), bad}};
+    c.smoothness.segments = {{{Vertex(0)}, bad}};
     EXPECT_THROW(validate_settings(c), InvalidInput) << bad;
   }
   s.order = 1;
@@ -75,9 +75,9 @@ TEST(Settings, Validation) {
   s.order = 3;
   s.smoothness.outer = 2.0;
   s.smoothness.inner = 0.0;
-  s.smoothness.overrides = {{Vertex(0), -1.0}};  // the sentinel is only for outer/inner
+  s.smoothness.segments = {{{Vertex(0)}, -1.0}};  // the sentinel is only for outer/inner
   EXPECT_THROW(validate_settings(s), InvalidInput);
-  s.smoothness.overrides = {{Vertex(0), 1.25}};
+  s.smoothness.segments = {{{Vertex(0)}, 1.25}};
   EXPECT_NO_THROW(validate_settings(s));
   try {
     BcmSettings a;
@@ -97,7 +97,7 @@ TEST(Settings, BadSettingsReachTheSolver) {
   s.smoothness.inner = std::nan("");
   EXPECT_THROW(BcmSolver(scene.mesh, scene.regions(), s), InvalidInput);
   s.smoothness.inner = 1.0;
-  s.smoothness.overrides = {{Vertex(1 << 20), 0.5}};
+  s.smoothness.segments = {{{Vertex(1 << 20)}, 0.5}};
   EXPECT_THROW(BcmSolver(scene.mesh, scene.regions(), s), InvalidInput);
 }
 

@@ -2,6 +2,7 @@
 // the free vertices is touched: cotangents and mixed areas on the faces incident to the
 // (k-1)-ring, then S_k = L Lam_{k-1} D L ... Lam_1 D L as sparse products on that patch.
 #include "freeform/bcm/bcm_system.h"
+#include "freeform/bcm/boundary_band.h"
 
 #include "freeform/common/error.h"
 #include "freeform/numerics/sparse_solver.h"
@@ -180,11 +181,12 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
   if (positions.size() != static_cast<std::size_t>(nv))
     throw InvalidInput("assemble_bcm_system: positions have " + std::to_string(positions.size()) +
                        " entries but the mesh has " + std::to_string(nv) + " vertices");
-  for (const auto& [v, c] : settings.smoothness.overrides) {
-    if (v.idx() < 0 || v.idx() >= nv)
-      throw InvalidInput("a boundary smoothness override names vertex " + std::to_string(v.idx()) +
-                         ", but the mesh has " + std::to_string(nv) + " vertices");
-  }
+  const auto& segments = settings.smoothness.segments;
+  for (std::size_t i = 0; i < segments.size(); ++i)
+    for (Vertex v : segments[i].vertices)
+      if (v.idx() < 0 || v.idx() >= nv)
+        throw InvalidInput("boundary smoothness segment " + std::to_string(i) + " names vertex " +
+                           std::to_string(v.idx()) + ", but the mesh has " + std::to_string(nv) + " vertices");
 
   BcmSystem sys;
   sys.free = regions.free_vertices();
@@ -263,13 +265,11 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
   }
 
   // Smoothness c per patch vertex and the weights Lam_m D of each level.
-  std::vector<double> c(static_cast<std::size_t>(n_loc), k - 1.0);
-  const double outer = resolved_outer(settings);
-  const double inner = resolved_inner(settings);
-  for (int i = n_free; i < n_loc; ++i)
-    c[static_cast<std::size_t>(i)] = regions.role(p.order[static_cast<std::size_t>(i)]) == Role::Fixed ? outer : inner;
-  for (const auto& [v, cv] : settings.smoothness.overrides)
-    if (p.local[v] >= n_free) c[static_cast<std::size_t>(p.local[v])] = cv;
+  std::vector<double> c(static_cast<std::size_t>(n_loc));
+  {
+    const std::vector<double> c_global = smoothness_per_vertex(regions, settings);
+    for (int i = 0; i < n_loc; ++i) c[static_cast<std::size_t>(i)] = c_global[static_cast<std::size_t>(p.order[static_cast<std::size_t>(i)].idx())];
+  }
   // The floor of operators' mixed_voronoi_areas (kAreaFloorRatio of the mean vertex area), over
   // the patch; floored vertices are counted like there.
   const double area_floor = detail::kAreaFloorRatio * (n_inner > 0 && total_area > 0.0 ? total_area / n_inner : 1.0);

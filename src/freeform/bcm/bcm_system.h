@@ -36,9 +36,9 @@ struct BcmSystem {
 
 // Cost: O(size of the k-ring of the free set) plus O(#V + #F) for index arrays. Cotangents
 // and mixed areas come only from the faces incident to the (k-1)-ring (same degenerate-face
-// policy as operators.h). Smoothness overrides on free vertices are ignored.
+// policy as operators.h). Smoothness segments on free vertices are ignored.
 // Throws InvalidInput (settings out of range, regions or positions of another size, a
-// non-finite position in the patch, an override naming a vertex outside the mesh) or
+// non-finite position in the patch, a segment naming a vertex outside the mesh) or
 // InvalidInput naming a vertex if a connected part of the free region (through free-free
 // edges) has no constrained vertex in its one-ring (the system would be singular).
 // `positions`: where cotangents and areas come from (the rest shape; for anisotropic bending

@@ -40,9 +40,12 @@ void validate_settings(const BcmSettings& settings) {
                        " is not supported; use 1 (membrane), 2 (thin plate) or 3 (minimal curvature variation)");
   check_c(settings.smoothness.outer, k, "outer boundary smoothness", true);
   check_c(settings.smoothness.inner, k, "inner boundary smoothness", true);
-  for (const auto& [v, c] : settings.smoothness.overrides) {
-    if (!v.is_valid()) throw InvalidInput("a boundary smoothness override names an invalid vertex");
-    check_c(c, k, "boundary smoothness override at vertex " + std::to_string(v.idx()), false);
+  const auto& segments = settings.smoothness.segments;
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    const std::string what = "boundary smoothness segment " + std::to_string(i);
+    check_c(segments[i].value, k, what, false);
+    for (Vertex v : segments[i].vertices)
+      if (!v.is_valid()) throw InvalidInput(what + " names an invalid vertex");
   }
 }
 

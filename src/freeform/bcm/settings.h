@@ -4,20 +4,27 @@
 #include "freeform/mesh/handles.h"
 #include "freeform/numerics/solver_kind.h"
 
-#include <utility>
 #include <vector>
 
 namespace freeform {
 
+// A stretch of the boundary with its own smoothness (the paper's piecewise boundary
+// conditions, Fig. 5): `value` on each of `vertices`. Free vertices in the list are ignored.
+struct SmoothnessSegment {
+  std::vector<Vertex> vertices;
+  double value = 0.0;
+  bool operator==(const SmoothnessSegment&) const = default;
+};
+
 // Boundary smoothness c in [0, k-1] per constrained vertex: c = 0 is C0 (a crease),
 // c = k-1 full C^(k-1). outer/inner equal to kDefault (-1) mean "k-1" (the default); any other
-// value outside [0, k-1] is refused by validate_settings. Overrides on free vertices are
-// ignored (free vertices always have c = k-1).
+// value outside [0, k-1] is refused by validate_settings. Segments win over outer/inner, later
+// segments over earlier ones; free vertices always have c = k-1.
 struct Smoothness {
   static constexpr double kDefault = -1.0;
   double outer = kDefault;  // fixed vertices (outside the support)
   double inner = kDefault;  // handle vertices (movable and immovable)
-  std::vector<std::pair<Vertex, double>> overrides;  // per constrained vertex, wins over outer/inner
+  std::vector<SmoothnessSegment> segments;
 };
 
 // lambda_m(c) = clamp(c - m + 1, 0, 1): the weight of the level-m Laplacian at a stencil vertex
@@ -35,12 +42,11 @@ struct BcmSettings {
 };
 
 // Throws InvalidInput naming the value: order not in {1,2,3}, smoothness outside [0, k-1]
-// (other than the kDefault sentinel for outer/inner) or not finite, an override naming an
+// (other than the kDefault sentinel for outer/inner) or not finite, a segment naming an
 // invalid vertex handle.
 void validate_settings(const BcmSettings& settings);
 
-// The smoothness of a constrained vertex with role Fixed (`handle` false) or Handle (`handle`
-// true), before overrides: outer/inner with kDefault resolved to k-1.
+// outer/inner with kDefault resolved to k-1 (before segments).
 double resolved_outer(const BcmSettings& settings);
 double resolved_inner(const BcmSettings& settings);
 

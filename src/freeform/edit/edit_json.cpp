@@ -1,5 +1,6 @@
 #include "freeform/edit/edit_json.h"
 
+#include "freeform/bcm/boundary_band.h"
 #include "freeform/common/error.h"
 #include "freeform/common/json_messages.h"
 #include "freeform/io/file_util.h"
@@ -61,6 +62,8 @@ class Parser : JsonReader {
       const Json& hs = array(j["handles"], "handles");
       for (std::size_t i = 0; i < hs.size(); ++i) e.handles.push_back(handle(hs[i], index_path("handles", i)));
     }
+    if (j.contains("smoothness") && j["smoothness"].contains("segments"))
+      e.settings.smoothness.segments = segments(j["smoothness"]["segments"], e);
     return e;
   }
 
@@ -93,17 +96,52 @@ class Parser : JsonReader {
 
   void smoothness(const Json& j, BcmSettings& settings) const {
     object(j, "smoothness");
-    keys(j, "smoothness", {"outer", "inner"});
-    const int k = settings.order;
-    for (const char* side : {"outer", "inner"}) {
-      if (!j.contains(side)) continue;
-      const std::string path = key_path("smoothness", side);
-      const double c = number(j[side], path);
-      if (c < 0.0 || c > k - 1)
-        fail(quoted(path) + " must be in [0, " + std::to_string(k - 1) + "] for order " + std::to_string(k) +
-             " (0 = crease, " + std::to_string(k - 1) + " = smoothest), got " + num(c));
-      (std::string(side) == "outer" ? settings.smoothness.outer : settings.smoothness.inner) = c;
+    keys(j, "smoothness", {"outer", "inner", "segments"});
+    for (const char* side : {"outer", "inner"})
+      if (j.contains(side))
+        (std::string(side) == "outer" ? settings.smoothness.outer : settings.smoothness.inner) =
+            smoothness_value(j[side], key_path("smoothness", side), settings.order);
+  }
+
+  double smoothness_value(const Json& j, const std::string& path, int k) const {
+    const double c = number(j, path);
+    if (c < 0.0 || c > k - 1)
+      fail(quoted(path) + " must be in [0, " + std::to_string(k - 1) + "] for order " + std::to_string(k) +
+           " (0 = crease, " + std::to_string(k - 1) + " = smoothest), got " + num(c));
+    return c;
+  }
+
+  // Each segment keeps only the vertices where c acts (smoothness_band), so a segment that
+  // selects none of them would silently do nothing: that is an error.
+  std::vector<SmoothnessSegment> segments(const Json& j, const Edit& e) {
+    const std::string path = "smoothness.segments";
+    const Json& list = array(j, path);
+    if (list.empty()) return {};
+    std::vector<char> in_band(static_cast<std::size_t>(mesh_.n_vertices()), 0);
+    try {
+      for (Vertex v : smoothness_band(mesh_, edit_regions(mesh_, e), e.settings.order))
+        in_band[static_cast<std::size_t>(v.idx())] = 1;
+    } catch (const InvalidInput& err) {
+      fail(quoted(path) + " cannot be placed: " + err.what());
     }
+    const int k = e.settings.order;
+    std::vector<SmoothnessSegment> out;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string p = index_path(path, i);
+      object(list[i], p);
+      keys(list[i], p, {"region", "value"});
+      SmoothnessSegment seg;
+      seg.value = smoothness_value(required(list[i], p, "value"), key_path(p, "value"), k);
+      for (Vertex v : selector(required(list[i], p, "region"), key_path(p, "region")))
+        if (in_band[static_cast<std::size_t>(v.idx())]) seg.vertices.push_back(v);
+      if (seg.vertices.empty())
+        fail(quoted(key_path(p, "region")) + " selects no constrained vertex where boundary smoothness acts " +
+             (k == 1 ? std::string("(order 1 is always C0: there is nothing to set)")
+                     : "(fixed or handle vertices within " + std::to_string(k - 1) + " ring" + (k > 2 ? "s" : "") +
+                           " of the free region)"));
+      out.push_back(std::move(seg));
+    }
+    return out;
   }
 
   std::vector<Vertex> selector(const Json& j, const std::string& path) {
@@ -267,6 +305,12 @@ Json edit_to_json(const Edit& edit) {
   }
   j["handles"] = std::move(handles);
   j["smoothness"] = Json{{"outer", resolved_outer(edit.settings)}, {"inner", resolved_inner(edit.settings)}};
+  if (!edit.settings.smoothness.segments.empty()) {
+    Json segs = Json::array();
+    for (const SmoothnessSegment& seg : edit.settings.smoothness.segments)
+      segs.push_back(Json{{"region", vertex_selector(seg.vertices)}, {"value", seg.value}});
+    j["smoothness"]["segments"] = std::move(segs);
+  }
   j["anisotropic"] = edit.settings.anisotropic;
   j["multiresolution"] = edit.multiresolution;
   j["deformation"] = deformation_name(edit.deformation);
