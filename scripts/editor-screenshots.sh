@@ -2,7 +2,7 @@
 # Regenerates the screenshots of docs/editor.md ("In pictures") from a real, scripted session
 # of freeform-editor: Xvfb + xdotool drive the editor on the armadillo of libcgal-demo exactly
 # as a user would (clicks on the panel, keys, a gizmo drag), and ImageMagick's `import` grabs
-# the screen. Writes docs/images/editor-{support,handle,drag,export}.png (atomically).
+# the screen. Writes docs/images/editor-{support,handle,drag,export,segment}.png (atomically).
 #
 #   scripts/editor-screenshots.sh                 # editor: build/release/apps/editor/freeform-editor
 #   FREEFORM_EDITOR=path/to/freeform-editor scripts/editor-screenshots.sh
@@ -71,7 +71,7 @@ drag() {
 }
 # The flood radius slider: Ctrl+click turns it into a text field; type the value, Enter.
 flood_radius() {
-  x mousemove 80 323 sleep 0.4 keydown ctrl sleep 0.4 click 1 sleep 0.4 keyup ctrl
+  x mousemove 80 346 sleep 0.4 keydown ctrl sleep 0.4 click 1 sleep 0.4 keyup ctrl
   pause 0.8
   x key ctrl+a sleep 0.2 type --delay 80 "$1"
   pause 0.4
@@ -138,5 +138,14 @@ x mouseup 1; pause 1.5
 x mousemove 800 500 sleep 0.3 key ctrl+e; pause 1.5
 shot editor-export
 x key Escape; pause 0.5
+
+# 5. Boundary smoothness: paint mode boundary (4), flood radius 12, a click on the band at the
+#    support's outer boundary on the upper arm makes a C0 segment (red; the rest of the band is
+#    violet, C2), shown after the background precompute.
+flood_radius 12
+x mousemove 800 500 sleep 0.3 key 4; pause 0.5
+click_at 940 255
+pause 5
+shot editor-segment
 
 echo "editor-screenshots: done in $(($(date +%s) - start)) s"

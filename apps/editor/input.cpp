@@ -152,6 +152,7 @@ bool App::tool_shortcut(int key) {
     case GLFW_KEY_1: tools_.options.mode = PaintMode::Support; return true;
     case GLFW_KEY_2: tools_.options.mode = PaintMode::Handle; return true;
     case GLFW_KEY_3: tools_.options.mode = PaintMode::Immovable; return true;
+    case GLFW_KEY_4: tools_.options.mode = PaintMode::Boundary; return true;
     case GLFW_KEY_B: tools_.options.tool = Tool::Brush; return true;
     case GLFW_KEY_L: tools_.options.tool = Tool::Lasso; return true;
     case GLFW_KEY_O: tools_.options.tool = Tool::Flood; return true;

@@ -136,8 +136,9 @@ void App::panel_regions() {
   ImGui::RadioButton("handle", &mode, static_cast<int>(PaintMode::Handle));
   ImGui::SameLine();
   ImGui::RadioButton("immovable", &mode, static_cast<int>(PaintMode::Immovable));
-  ImGui::SameLine();
-  ImGui::RadioButton("boundary", &mode, static_cast<int>(PaintMode::Boundary));
+  ImGui::NewLine();
+  ImGui::SameLine(5.0f * ImGui::GetFontSize());
+  ImGui::RadioButton("boundary smoothness segment", &mode, static_cast<int>(PaintMode::Boundary));
   help_marker("Paint a stretch of the boundary band (where smoothness acts) into the active smoothness segment");
   opt.tool = static_cast<Tool>(tool);
   opt.mode = static_cast<PaintMode>(mode);
@@ -167,7 +168,7 @@ void App::panel_regions() {
   ImGui::SameLine();
   if (ImGui::SmallButton("New handle")) {
     const bool movable = opt.mode != PaintMode::Immovable;
-    if (opt.mode == PaintMode::Support) opt.mode = PaintMode::Handle;
+    if (opt.mode == PaintMode::Support || opt.mode == PaintMode::Boundary) opt.mode = PaintMode::Handle;
     attempt("new handle", [&] { doc_.new_handle(movable); });
   }
   help_marker("An empty handle of the paint mode's kind (movable unless 'immovable'); paint it next");

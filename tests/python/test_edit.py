@@ -101,3 +101,23 @@ def test_sel_paths_relative_to_base_dir(tmp_path, plane):
     assert len(freeform.Edit.from_dict(d, plane, base_dir=tmp_path).support) == 40
     with pytest.raises(freeform.IoError):
         freeform.Edit.from_dict(d, plane, base_dir=tmp_path / "elsewhere")
+
+
+def test_smoothness_segments_from_dicts(plane):
+    """A C0 stretch of the outer boundary: kept through to_dict, changes the result, and a
+    segment that selects no band vertex is an error naming it."""
+    d = plane_edit_dict(order=3)
+    d["multiresolution"] = False
+    uniform = freeform.deform(plane, freeform.Edit.from_dict(d, plane))
+    d["smoothness"] = {"segments": [{"region": {"sphere": {"center": [0.95, 0.5, 0], "radius": 0.3}},
+                                     "value": np.float64(0.0)}]}
+    edit = freeform.Edit.from_dict(d, plane)
+    back = edit.to_dict()
+    (segment,) = back["smoothness"]["segments"]
+    assert segment["value"] == 0.0 and len(segment["region"]["vertices"]) > 5
+    creased = freeform.deform(plane, edit)
+    assert np.abs(creased - uniform).max() > 1e-3
+    assert np.array_equal(freeform.deform(plane, freeform.Edit.from_dict(back, plane)), creased)
+    d["smoothness"]["segments"].append({"region": {"sphere": {"center": [4 / 12, 0.5, 0], "radius": 0.02}}, "value": 1})  # a free vertex
+    with pytest.raises(freeform.Error, match=r"smoothness\.segments\[1\]\.region.* selects no constrained vertex"):
+        freeform.Edit.from_dict(d, plane)

@@ -132,6 +132,54 @@ TEST(CliRender, DeformedShapeShowsTheLiftedHandle) {
   EXPECT_GT(original - deformed, 10.0) << "lifted by 0.15 of a unit square that spans ~250 px";
 }
 
+// A C0 segment on the right stretch of the outer boundary (k = 3): with the band shown, red
+// pixels lie in the right half of the plane and violet (C2) ones in the left, plus the legend
+// in the lower left; --band off shows neither.
+TEST(CliRender, SmoothnessBandColoursAndLegend) {
+  const Plane s;
+  const auto edit = s.dir / "segments.json";
+  write_text(edit, R"({
+    "order": 3, "multiresolution": false,
+    "support": {"geodesic": {"center": [0.5, 0.5, 0], "radius": 0.35}},
+    "handles": [{"region": {"sphere": {"center": [0.5, 0.5, 0], "radius": 0.1}}}],
+    "smoothness": {"segments": [{"region": {"sphere": {"center": [0.9, 0.5, 0], "radius": 0.3}}, "value": 0}]}
+  })");
+  const int w = 400, h = 400;
+  const viewer::Camera cam = top_camera();
+  const double centre_x = project(cam, w, h, {0.5, 0.5, 0}).x();
+  struct Found {
+    int red_right = 0, red_left = 0, violet_left = 0, violet_right = 0, legend = 0;
+  };
+  const auto run = [&](const std::string& band) {
+    const auto out = s.dir / ("band-" + band + ".png");
+    const CliRun r = freeform_cli("render " + q(s.mesh) + " --edit " + q(edit) + " --band " + band +
+                                  " --size 400x400 --samples 0 -o " + q(out) + " --camera '" + kTopCamera + "'");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const Image img = load_png(out.string());
+    Found f;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        const std::uint8_t* p = img.at(x, y);
+        const bool red = p[0] > 150 && p[1] < 90 && p[2] < 90;
+        const bool violet = p[0] > 90 && p[2] > 150 && p[1] < 110 && p[2] > p[1] + 60 && p[0] > p[1] + 30;
+        if (y > h - 45 && x < 160) {  // the legend's corner (outside the plane in this view)
+          f.legend += red || violet;
+          continue;
+        }
+        (x > centre_x ? f.red_right : f.red_left) += red;
+        (x < centre_x ? f.violet_left : f.violet_right) += violet;
+      }
+    return f;
+  };
+  const Found on = run("auto");
+  EXPECT_GT(on.red_right, 200);
+  EXPECT_EQ(on.red_left, 0);
+  EXPECT_GT(on.violet_left, 200);
+  EXPECT_GT(on.legend, 100);
+  const Found off = run("off");
+  EXPECT_EQ(off.red_right + off.red_left + off.violet_left + off.violet_right + off.legend, 0);
+}
+
 // No edit, top view fitted to the bounding box: the covered pixels fill the projected square.
 TEST(CliRender, CoverageMatchesTheProjectedBoundingBox) {
   const Plane s;
