@@ -219,7 +219,6 @@ void Document::stroke_segment(std::span<const Vertex> vertices) {
   ++region_version_;
 }
 
-
 int Document::paint_target(PaintMode mode) {
   const bool movable = mode == PaintMode::Handle;
   const HandleState* a = state_.find_handle(active_);

@@ -5,6 +5,7 @@
 #include "freeform/bcm/boundary_band.h"
 #include "freeform/common/error.h"
 #include "freeform/edit/edit_json.h"
+#include "freeform/edit/edit_report.h"
 #include "freeform/edit/edit_solver.h"
 #include "freeform/mesh/traversal.h"
 #include "freeform/mesh/generators.h"
@@ -89,6 +90,12 @@ TEST(SmoothnessSegments, CreaseStretchMatchesTheGlobalOperatorSolve) {
     EXPECT_LT((result - want).cwiseAbs().maxCoeff(), t.tolerance * diag);
     // The solver follows the symmetry check: c = 1 at k = 3 makes lambda_1 != lambda_2.
     EXPECT_EQ(stats.bcm.symmetric, t.symmetric) << stats.bcm.solver;
+    // The report names the segment (vertices kept, value).
+    const EditSolver solver(disk(), edit);
+    const Json report = edit_report(solver, {}, {});
+    ASSERT_EQ(report["smoothness"]["segments"].size(), 1u);
+    EXPECT_EQ(report["smoothness"]["segments"][0]["vertices"], edit.settings.smoothness.segments[0].vertices.size());
+    EXPECT_EQ(report["smoothness"]["segments"][0]["value"], t.c);
     // The key is not ignored: uniform smoothness gives a visibly different surface.
     const Edit uniform = parse(edit_text(t.order, "{}"));
     EXPECT_GT((free_rows(deform(disk(), uniform), regions) - result).cwiseAbs().maxCoeff(), 0.01 * diag);

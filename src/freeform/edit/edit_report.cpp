@@ -27,10 +27,13 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
                  {"residual", ns->step},
                  {"converged", ns->converged},
                  {"iterate_ms", ns->ms}};
+  Json segments = Json::array();
+  for (const SmoothnessSegment& seg : settings.smoothness.segments)
+    segments.push_back({{"vertices", seg.vertices.size()}, {"value", seg.value}});
   return {
       {"deformation", deformation_name(solver.stats().deformation)},
       {"order", settings.order},
-      {"smoothness", {{"outer", resolved_outer(settings)}, {"inner", resolved_inner(settings)}}},
+      {"smoothness", {{"outer", resolved_outer(settings)}, {"inner", resolved_inner(settings)}, {"segments", std::move(segments)}}},
       {"counts",
        {{"free", regions.n_free()}, {"fixed", regions.n_fixed()}, {"constrained_in_system", st.constrained}, {"handles", handles}}},
       {"solver", st.solver},

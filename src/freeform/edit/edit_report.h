@@ -7,7 +7,7 @@
 
 namespace freeform {
 
-// deformation, order, smoothness {outer, inner}, counts {free, fixed, constrained_in_system,
+// deformation, order, smoothness {outer, inner, segments [{vertices, value}]}, counts {free, fixed, constrained_in_system,
 // handles [{vertices, movable}]}, solver, symmetric, timings_ms {assembly, factorization,
 // basis, evaluate}, residual, folded_edges (mesh/folds.h), anisotropic {requested, used, principal_extents, fallback,
 // parametrization_ms}, multiresolution (null without it; else decomposition_ms,
