@@ -56,6 +56,7 @@ void BM_MultiresReconstruct(benchmark::State& state) {
   const MultiresProblems pr = s.solver->problems(positions).detail;
   state.counters["free"] = st.free;
   state.counters["decomposition_ms"] = st.decomposition_ms;
+  state.counters["operator_shape_ms"] = st.operator_shape_ms;  // part of decomposition_ms
   state.counters["bcm_precompute_ms"] =
       s.solver->bcm().stats().assembly_ms + s.solver->bcm().stats().factorization_ms + s.solver->bcm().stats().basis_ms;
   state.counters["fallback"] = st.fallback;

@@ -121,6 +121,40 @@ TEST(NormalDisplacement, FlatTriangleGivesTheOrthogonalHeight) {
   EXPECT_FALSE(multires::fit_normal_displacement(Vec3(2, 2, 0.1), a, b, c, n, n, n, 1e-4).ok);
 }
 
+// The candidate search skips a triangle when this bound reaches its best |h| so far, so the bound
+// must never exceed the |h| of a fit the triangle accepts (else the encoding would change).
+TEST(NormalDisplacement, HeightLowerBoundNeverExceedsAnAcceptedFit) {
+  std::srand(7);
+  auto uniform = [] { return 2.0 * std::rand() / RAND_MAX - 1.0; };
+  auto random_vec = [&] { return Vec3(uniform(), uniform(), uniform()); };
+  int accepted = 0, tight = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const Vec3 a = random_vec(), b = random_vec(), c = random_vec();
+    const Vec3 nf = (b - a).cross(c - a).normalized();
+    // Corner normals up to ~45 degrees off the face normal; points near and far.
+    auto normal = [&] { return (nf + 0.7 * random_vec()).normalized(); };
+    const Vec3 na = normal(), nb = normal(), nc = normal();
+    const Vec3 x = (a + b + c) / 3.0 + (trial % 2 ? 0.3 : 2.0) * random_vec();
+    const double lb = multires::fit_height_lower_bound(x, a, b, c, 1e-4);
+    ASSERT_GE(lb, 0.0);
+    const multires::NormalFit fit = multires::fit_normal_displacement(x, a, b, c, na, nb, nc, 1e-4);
+    if (!fit.ok) continue;
+    ++accepted;
+    ASSERT_LE(lb, std::abs(fit.h)) << "trial " << trial;
+    if (lb > 0.5 * std::abs(fit.h)) ++tight;
+  }
+  EXPECT_GT(accepted, 1000);
+  EXPECT_GT(tight, accepted / 4);  // a useful bound, not just 0
+  // Flat triangle, parallel normals: exact, the height of x above the plane when x projects inside.
+  const Vec3 n(0, 0, 1);
+  EXPECT_NEAR(multires::fit_height_lower_bound(Vec3(0.2, 0.3, 0.7), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 0.0),
+              0.7, 1e-5);
+  // Far outside in the plane: at least the distance to the line of the violated edge x + y = 1
+  // (2 / sqrt 2; the true distance to the triangle is 2).
+  EXPECT_GT(multires::fit_height_lower_bound(Vec3(3, 0, 0), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 1e-4), 1.41);
+  EXPECT_FALSE(multires::fit_normal_displacement(Vec3(3, 0, 0), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), n, n, n, 1e-4).ok);
+}
+
 // ---------------------------------------------------------------------------------------------
 
 struct RealMesh {

@@ -97,21 +97,43 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
       for (Vertex v : vs) detail_face_global_.push_back(v.idx());
     }
   }
-  vf_offset_.push_back(0);
-  for (int l = 0; l < n_local; ++l) {
-    const Vertex v(local_global_[static_cast<std::size_t>(l)]);
-    if (!(dist[v] >= 0 && dist[v] <= normal_rings)) continue;
-    normal_vertices_.push_back(l);
-    for (Halfedge he : mesh.outgoing(v))
-      if (const Face f = mesh.face(he); f.is_valid()) vf_faces_.push_back(local_face[f]);
-    vf_offset_.push_back(static_cast<int>(vf_faces_.size()));
+  // Per frame: face normals of normal_faces_, then each normal vertex sums those around it.
+  auto set_normal_vertices = [&](const std::vector<char>& wanted) {
+    normal_vertices_.clear();
+    normal_faces_.clear();
+    vf_faces_.clear();
+    vf_offset_.assign(1, 0);
+    std::vector<int> slot(faces_.size(), -1);  // local face -> its row among normal_faces_
+    for (int l = 0; l < n_local; ++l) {
+      if (!wanted[static_cast<std::size_t>(l)]) continue;
+      normal_vertices_.push_back(l);
+      for (Halfedge he : mesh.outgoing(Vertex(local_global_[static_cast<std::size_t>(l)]))) {
+        const Face f = mesh.face(he);
+        if (!f.is_valid()) continue;
+        int& r = slot[static_cast<std::size_t>(local_face[f])];
+        if (r < 0) {
+          r = static_cast<int>(normal_faces_.size());
+          normal_faces_.push_back(local_face[f]);
+        }
+        vf_faces_.push_back(r);
+      }
+      vf_offset_.push_back(static_cast<int>(vf_faces_.size()));
+    }
+    fnormal_.resize(static_cast<Eigen::Index>(normal_faces_.size()), 3);
+  };
+  {
+    std::vector<char> wanted(static_cast<std::size_t>(n_local), 0);
+    for (int l = 0; l < n_local; ++l) {
+      const int d = dist[Vertex(local_global_[static_cast<std::size_t>(l)])];
+      wanted[static_cast<std::size_t>(l)] = d >= 0 && d <= normal_rings;
+    }
+    set_normal_vertices(wanted);
   }
 
   // --- rest base (identity manipulators) and its normals, with the per-frame code ---
   base_.resize(n_local, 3);
   for (int l = n_moving_; l < n_local; ++l)
     base_.row(l) = mesh.position(Vertex(local_global_[static_cast<std::size_t>(l)])).transpose();
-  fnormal_.resize(static_cast<Eigen::Index>(faces_.size()), 3);
   normal_.setZero(n_local, 3);
   const std::vector<Eigen::Affine3d> identity(static_cast<std::size_t>(bcm_.n_movable()), Eigen::Affine3d::Identity());
   update_base(identity, Base::Linear);
@@ -119,6 +141,8 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
 
   // --- encode every free vertex ---
   codes_.resize(static_cast<std::size_t>(n_free_));
+  min_ratio_.assign(static_cast<std::size_t>(n_free_), -std::numeric_limits<double>::infinity());
+  rest_sign_.assign(static_cast<std::size_t>(n_free_), 0);
   const double* B = base_.data();
   const double* N = normal_.data();
   const double tol = options.barycentric_tolerance;
@@ -172,6 +196,9 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
           frontier.swap(next);
           for (std::size_t k = first_new; k < cand.size(); ++k) {
             const auto& fc = faces_[static_cast<std::size_t>(local_face[Face(cand[k])])];
+            if (best.ok && multires::fit_height_lower_bound(x, Map3(B + 3 * fc[0]), Map3(B + 3 * fc[1]),
+                                                            Map3(B + 3 * fc[2]), tol) >= std::abs(best.h))
+              continue;  // cannot win: same choice, without its cubic
             const multires::NormalFit fit = multires::fit_normal_displacement(
                 x, Map3(B + 3 * fc[0]), Map3(B + 3 * fc[1]), Map3(B + 3 * fc[2]), Map3(N + 3 * fc[0]),
                 Map3(N + 3 * fc[1]), Map3(N + 3 * fc[2]), tol);
@@ -185,14 +212,16 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
         if (found) {
           code.w = {best.u, best.v, best.w};
           code.h = best.h;
-          code.rest_sign = best.det > 0 ? 1 : (best.det < 0 ? -1 : 0);
+          const std::int8_t rest_sign = best.det > 0 ? 1 : (best.det < 0 ? -1 : 0);
+          rest_sign_[static_cast<std::size_t>(i)] = rest_sign;
           const auto& fc = code.corner;
           const multires::JacobianRay ray = multires::offset_jacobian_ray(
               Map3(B + 3 * fc[0]), Map3(B + 3 * fc[1]), Map3(B + 3 * fc[2]), Map3(N + 3 * fc[0]), Map3(N + 3 * fc[1]),
               Map3(N + 3 * fc[2]), best.u, best.v, best.w);
-          if (code.rest_sign > 0 && ray.a0 > 0.0) {
-            code.min_ratio = kFlattenFraction * ray.at(best.h) / ray.a0;
-            code.min_det = code.min_ratio * ray.a0;  // -inf (never) unless set here
+          if (rest_sign > 0 && ray.a0 > 0.0) {
+            const double min_ratio = kFlattenFraction * ray.at(best.h) / ray.a0;
+            min_ratio_[static_cast<std::size_t>(i)] = min_ratio;
+            code.min_det = min_ratio * ray.a0;  // -inf (never) unless set here
           }
         }
       }
@@ -215,7 +244,6 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
         code.corner = {anchor, -1, -1};
         code.w = {d[0], d[1], d[2]};
         code.h = 0.0;
-        code.rest_sign = 0;
         if (nbr >= 0 && n.squaredNorm() > 0.5) {
           Vec3 e = Map3(B + 3 * nbr) - pa;
           e = (e - e.dot(n) * n).normalized();
@@ -227,16 +255,25 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
     }
   }
 
-  for (const Code& c : codes_) {
+  for (std::size_t i = 0; i < codes_.size(); ++i) {
+    const Code& c = codes_[i];
     if (c.corner[2] >= 0) {
       ++stats_.normal_encoded;
       stats_.max_height = std::max(stats_.max_height, std::abs(c.h));
-      if (c.rest_sign <= 0) ++stats_.rest_folded;
+      if (rest_sign_[i] <= 0) ++stats_.rest_folded;
     } else {
       ++stats_.fallback;
     }
   }
   stats_.free = n_free_;
+  {  // per frame, normals are needed at the corners of the encodings only
+    std::vector<char> used(static_cast<std::size_t>(n_local), 0);
+    for (const Code& c : codes_) {
+      used[static_cast<std::size_t>(c.corner[0])] = 1;
+      if (c.corner[2] >= 0) used[static_cast<std::size_t>(c.corner[1])] = used[static_cast<std::size_t>(c.corner[2])] = 1;
+    }
+    set_normal_vertices(used);
+  }
 
   // Rest orientation of the detail triangles against their base triangles.
   detail_rest_sign_.resize(detail_faces_.size());
@@ -246,7 +283,7 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
     const Vec3 p2 = mesh.position(Vertex(detail_face_global_[3 * k + 2]));
     // Only triangles clearly facing along (or against) the base are checked: a detail triangle
     // nearly perpendicular to its base triangle (walls of sharp features) has no meaningful side.
-    const Vec3 dn = (p1 - p0).cross(p2 - p0), bn = fnormal_.row(detail_faces_[k]).transpose();
+    const Vec3 dn = (p1 - p0).cross(p2 - p0), bn = base_face_normal(detail_faces_[k]);
     const double c = dn.dot(bn), scale = dn.norm() * bn.norm();
     detail_rest_sign_[k] = c > kFacingCosine * scale ? 1 : (c < -kFacingCosine * scale ? -1 : 0);
   }
@@ -289,18 +326,26 @@ void MultiresSolver::update_base(std::span<const Eigen::Affine3d> transforms, Ba
   }
 }
 
+Vec3 MultiresSolver::base_face_normal(int f) const {
+  const auto& c = faces_[static_cast<std::size_t>(f)];
+  const Vec3 p0 = base_.row(c[0]).transpose();
+  return (base_.row(c[1]).transpose() - p0).cross(base_.row(c[2]).transpose() - p0);  // area weighted
+}
+
 void MultiresSolver::update_normals() const {
   const double* b = base_.data();
   double* fn = fnormal_.data();
-  const int nf = static_cast<int>(faces_.size());
+  const int nf = static_cast<int>(normal_faces_.size());
+  const int* fs = normal_faces_.data();
   const std::array<int, 3>* faces = faces_.data();
 #pragma omp parallel for schedule(static) if (nf > kParallelRows)
-  for (int f = 0; f < nf; ++f) {
-    const Vec3 p0 = Map3(b + 3 * faces[f][0]);
-    const Vec3 n = (Map3(b + 3 * faces[f][1]) - p0).cross(Map3(b + 3 * faces[f][2]) - p0);  // area weighted
-    fn[3 * f] = n[0];
-    fn[3 * f + 1] = n[1];
-    fn[3 * f + 2] = n[2];
+  for (int k = 0; k < nf; ++k) {
+    const std::array<int, 3>& f = faces[fs[k]];
+    const Vec3 p0 = Map3(b + 3 * f[0]);
+    const Vec3 n = (Map3(b + 3 * f[1]) - p0).cross(Map3(b + 3 * f[2]) - p0);  // area weighted
+    fn[3 * k] = n[0];
+    fn[3 * k + 1] = n[1];
+    fn[3 * k + 2] = n[2];
   }
   double* vn = normal_.data();
   const int nv = static_cast<int>(normal_vertices_.size());
@@ -311,8 +356,8 @@ void MultiresSolver::update_normals() const {
   for (int k = 0; k < nv; ++k) {
     Vec3 n = Vec3::Zero();
     for (int j = off[k]; j < off[k + 1]; ++j) n += Map3(fn + 3 * vf[j]);
-    const double len = n.norm();
-    if (len > 0.0) n /= len;
+    const double sq = n.squaredNorm();
+    if (sq > 0.0) n *= 1.0 / std::sqrt(sq);
     double* r = vn + 3 * nvs[k];
     r[0] = n[0];
     r[1] = n[1];
@@ -321,11 +366,21 @@ void MultiresSolver::update_normals() const {
 }
 
 // Out of line: rare, and keeping it out of the reconstruction loop keeps that loop fast.
-[[gnu::noinline]] double MultiresSolver::flattened_height(const Code& c, const Vec3& pa, const Vec3& pb, const Vec3& pc,
-                                                          const Vec3& na, const Vec3& nb, const Vec3& nc) {
-  if (c.min_ratio == -std::numeric_limits<double>::infinity()) return c.h;
-  return multires::safe_height(multires::offset_jacobian_ray(pa, pb, pc, na, nb, nc, c.w[0], c.w[1], c.w[2]), c.h,
-                               c.min_ratio);
+// Out of line and reloading its inputs by index: rare, and nothing of the reconstruction loop
+// has to live in memory across this call (passing the loop's vectors by reference cost 25 %).
+[[gnu::noinline]] int MultiresSolver::flatten_detail(int i, Vec3* out) const {
+  const Code& c = codes_[static_cast<std::size_t>(i)];
+  const double min_ratio = min_ratio_[static_cast<std::size_t>(i)];
+  auto p = [&](int k) { return Vec3(base_.row(c.corner[static_cast<std::size_t>(k)]).transpose()); };
+  auto n = [&](int k) { return Vec3(normal_.row(c.corner[static_cast<std::size_t>(k)]).transpose()); };
+  const double h = min_ratio == -std::numeric_limits<double>::infinity()
+                       ? c.h
+                       : multires::safe_height(multires::offset_jacobian_ray(p(0), p(1), p(2), n(0), n(1), n(2), c.w[0],
+                                                                              c.w[1], c.w[2]),
+                                               c.h, min_ratio);
+  out[local_global_[static_cast<std::size_t>(i)]] =
+      c.w[0] * (p(0) + h * n(0)) + c.w[1] * (p(1) + h * n(1)) + c.w[2] * (p(2) + h * n(2));
+  return h != c.h ? 1 : 0;
 }
 
 void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
@@ -367,15 +422,15 @@ void MultiresSolver::add_detail(VertexData<Vec3>& positions) const {
     if (c.corner[2] >= 0) {
       const Vec3 pb = Map3(b + 3 * c.corner[1]), pc = Map3(b + 3 * c.corner[2]);
       const Vec3 na = Map3(nn + 3 * c.corner[0]), nb = Map3(nn + 3 * c.corner[1]), nc = Map3(nn + 3 * c.corner[2]);
-      double h = c.h;
-      // Cheap test first (one cross product against the rest-scaled floor): flatten only where
-      // the offset map nears a fold (the exact test, with the current a0, is in safe_height).
-      const Vec3 ni = c.w[0] * na + c.w[1] * nb + c.w[2] * nc;
-      if ((pa - pc + c.h * (na - nc)).cross(pb - pc + c.h * (nb - nc)).dot(ni) < c.min_det) [[unlikely]] {
-        h = flattened_height(c, pa, pb, pc, na, nb, nc);
-        flattened += h != c.h ? 1 : 0;
+      // The offset triangle's corners; its normal against the interpolated base normal is the
+      // cheap fold test against the rest-scaled floor (the exact test, with the current a0, is in
+      // safe_height): flatten only where the offset map nears a fold.
+      const Vec3 qa = pa + c.h * na, qb = pb + c.h * nb, qc = pc + c.h * nc;
+      if ((qa - qc).cross(qb - qc).dot(c.w[0] * na + c.w[1] * nb + c.w[2] * nc) < c.min_det) [[unlikely]] {
+        flattened += flatten_detail(i, out);
+        continue;
       }
-      x = c.w[0] * (pa + h * na) + c.w[1] * (pb + h * nb) + c.w[2] * (pc + h * nc);
+      x = c.w[0] * qa + c.w[1] * qb + c.w[2] * qc;
     } else if (c.corner[1] >= 0) {
       const Vec3 nrm = Map3(nn + 3 * c.corner[0]);
       Vec3 e = Map3(b + 3 * c.corner[1]) - pa;
@@ -397,7 +452,6 @@ MultiresProblems MultiresSolver::problems(const VertexData<Vec3>& positions) con
   if (positions.size() != static_cast<std::size_t>(n_vertices_))
     throw InvalidInput("multiresolution problems: positions have " + std::to_string(positions.size()) +
                        " entries, the mesh has " + std::to_string(n_vertices_) + " vertices");
-  const double* fn = fnormal_.data();
   const Vec3* p = positions.raw().data();
   int flipped = 0;
   const int nd = static_cast<int>(detail_faces_.size());
@@ -406,7 +460,7 @@ MultiresProblems MultiresSolver::problems(const VertexData<Vec3>& positions) con
     const Vec3& p0 = p[detail_face_global_[3 * static_cast<std::size_t>(k)]];
     const Vec3& p1 = p[detail_face_global_[3 * static_cast<std::size_t>(k) + 1]];
     const Vec3& p2 = p[detail_face_global_[3 * static_cast<std::size_t>(k) + 2]];
-    const double d = (p1 - p0).cross(p2 - p0).dot(Map3(fn + 3 * detail_faces_[static_cast<std::size_t>(k)]));
+    const double d = (p1 - p0).cross(p2 - p0).dot(base_face_normal(detail_faces_[static_cast<std::size_t>(k)]));
     if (detail_rest_sign_[static_cast<std::size_t>(k)] > 0 && !(d > 0)) ++flipped;
   }
   return {flipped, flattened_};

@@ -118,15 +118,14 @@ class MultiresSolver {
 
  private:
   using RowMatrixX3d = BcmSolver::RowMatrixX3d;
+  // What the per-frame loop reads (56 bytes; the rest of an encoding is in cold arrays).
   struct Code {
     std::array<int, 3> corner;  // local indices; fallback: {anchor, edge neighbour, -1}
     std::array<double, 3> w;    // barycentrics; fallback: coordinates in the frame
     double h = 0;               // height (normal encoding)
-    std::int8_t rest_sign = 0;  // sign of det(offset map Jacobian) at rest (normal encoding)
-    // det / a0 along the height ray may not fall below this (multires::safe_height): a fixed
-    // fraction of its rest value, so the rest never flattens; -inf: never flattened.
-    double min_ratio = -std::numeric_limits<double>::infinity();
-    double min_det = -std::numeric_limits<double>::infinity();  // min_ratio * rest a0: a one-cross-product test
+    // Below this det of the offset map the detail nears a fold (min_ratio_ * rest a0): a
+    // one-cross-product test; -inf: never flattened.
+    double min_det = -std::numeric_limits<double>::infinity();
   };
 
   MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, const MultiresOptions& options,
@@ -145,14 +144,19 @@ class MultiresSolver {
   int n_moving_ = 0;                       // P + movable handle vertices
   std::vector<std::array<int, 3>> faces_;  // local faces (corners as local indices)
   std::vector<int> normal_vertices_;       // local vertices whose normal is recomputed
-  std::vector<int> vf_offset_, vf_faces_;  // CSR: faces around normal_vertices_[k]
+  std::vector<int> normal_faces_;          // local faces around them (rows of fnormal_)
+  std::vector<int> vf_offset_, vf_faces_;  // CSR: rows of fnormal_ around normal_vertices_[k]
   std::vector<Code> codes_;                // per free vertex
+  // Per free vertex: det / a0 along the height ray may not fall below this (multires::safe_height),
+  // a fixed fraction of its rest value so the rest never flattens; -inf: never flattened.
+  std::vector<double> min_ratio_;
+  std::vector<std::int8_t> rest_sign_;     // sign of det(offset map Jacobian) at rest (normal encoding)
   std::vector<int> detail_faces_;          // local faces with a free corner (problem check)
   std::vector<int> detail_face_global_;    // their 3 global corners, flattened
   std::vector<std::int8_t> detail_rest_sign_;
   // Workspace of evaluate().
   mutable RowMatrixX3d base_;     // local positions, rows = local vertices
-  mutable RowMatrixX3d fnormal_;  // per local face (area weighted)
+  mutable RowMatrixX3d fnormal_;  // per normal face (area weighted)
   mutable RowMatrixX3d normal_;   // per local vertex (unit; rows of other vertices unused)
   mutable MultiresTimings timings_;
   mutable int flattened_ = 0;  // vertices whose detail the last evaluate() flattened
@@ -160,9 +164,10 @@ class MultiresSolver {
   enum class Base { Linear, NonlinearSolve, NonlinearIterate };
   void update_base(std::span<const Eigen::Affine3d> transforms, Base source) const;
   void add_detail(VertexData<Vec3>& positions) const;
-  static double flattened_height(const Code& c, const Vec3& pa, const Vec3& pb, const Vec3& pc, const Vec3& na,
-                                 const Vec3& nb, const Vec3& nc);
+  // Rebuilds free vertex i with its height lowered by multires::safe_height; 1 if it was lowered.
+  int flatten_detail(int i, Vec3* out) const;
   void update_normals() const;
+  Vec3 base_face_normal(int f) const;  // of local face f on the current base, area weighted
 };
 
 }  // namespace freeform

@@ -120,6 +120,28 @@ NormalFit fit_normal_displacement(const Vec3& x, const Vec3& a, const Vec3& b, c
   return best;
 }
 
+double fit_height_lower_bound(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c, double tolerance) {
+  const Vec3 nf = (b - a).cross(c - a);
+  const double a2 = nf.squaredNorm();  // (twice the area)^2
+  if (!(a2 > 0.0) || !std::isfinite(a2)) return 0.0;
+  const double len = std::sqrt(a2);
+  const double plane = std::abs((x - a).dot(nf)) / len;
+  // Barycentrics of x's projection; beta_k = -tolerance is a line at distance (-tolerance - beta_k)
+  // times the altitude from corner k.
+  const double beta[3] = {nf.dot((c - b).cross(x - b)) / a2, nf.dot((a - c).cross(x - c)) / a2, 0.0};
+  const double beta_c = 1.0 - beta[0] - beta[1];
+  const double edge[3] = {(c - b).norm(), (a - c).norm(), (b - a).norm()};
+  double in_plane = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double bk = k == 2 ? beta_c : beta[k];
+    if (bk < -tolerance) in_plane = std::max(in_plane, (-tolerance - bk) * len / edge[k]);
+  }
+  const double dist = std::sqrt(plane * plane + in_plane * in_plane);
+  // Slack for the fit's accepted residual (1e-9 of its size) and for rounding here.
+  const double size = std::max({edge[0], edge[1], edge[2]}) + (x - c).norm();
+  return std::max(0.0, (dist * (1.0 - 1e-6) - 1e-6 * size) / (1.0 + 4.0 * tolerance + 1e-6));
+}
+
 double safe_height(const JacobianRay& j, double h, double min_ratio) {
   if (!(j.a0 > 0.0)) return 0.0;
   const double floor = min_ratio * j.a0;

@@ -26,6 +26,12 @@ struct NormalFit {
 NormalFit fit_normal_displacement(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& na,
                                   const Vec3& nb, const Vec3& nc, double tolerance);
 
+// A lower bound on |h| of any fit fit_normal_displacement(x, a, b, c, ..., tolerance) accepts,
+// whatever the normals: x - h * (interpolated normal) lies in the tolerance-expanded triangle and
+// that normal is at most 1 + 4 tolerance long, so |h| >= dist(x, expanded triangle) / that.
+// Cheap (no cubic): the candidate search skips triangles that cannot beat its best |h|.
+double fit_height_lower_bound(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c, double tolerance);
+
 // det dF/d(u, v, h) at (u, v, h): the sign of the offset map's Jacobian (overlap test).
 inline double offset_jacobian_det(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& na, const Vec3& nb,
                                   const Vec3& nc, double u, double v, double w, double h) {
