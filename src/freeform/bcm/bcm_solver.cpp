@@ -2,12 +2,16 @@
 // (DESIGN.md section 4).
 #include "freeform/bcm/bcm_solver.h"
 
+#include "freeform/bcm/bcm_system.h"
+
 #include "freeform/common/error.h"
 #include "freeform/numerics/sparse_solver.h"
 #include "freeform/param/anisotropic.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace freeform {
@@ -38,6 +42,44 @@ void kernel(int n, int n4_dynamic, const double* __restrict b, const double* __r
   }
 }
 
+// The operator's positions scaled by a power of two (exact) to an extent near 1: cotangents are
+// unchanged, but areas of coordinates near 1e+-80 no longer overflow or underflow in the k-th
+// power of the operator. The solution does not depend on the operator's scale.
+VertexData<Vec3> unit_scaled(const VertexData<Vec3>& p) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const Vec3& x : p.raw())
+    if (x.allFinite()) {
+      lo = std::min(lo, x.minCoeff());
+      hi = std::max(hi, x.maxCoeff());
+    }
+  VertexData<Vec3> out = p;
+  const double extent = hi - lo;  // max - min of all coordinates: no squares, no overflow below 1e308
+  if (!(extent > 0.0) || !std::isfinite(extent)) return out;
+  const int e = -std::ilogb(extent);  // ldexp, not a factor: 2^1030 for subnormal input overflows
+  for (Vec3& x : out.raw())
+    for (int i = 0; i < 3; ++i) x[i] = std::ldexp(x[i], e);
+  return out;
+}
+
+// A failed factorization with the likely cause: degenerate triangles carry no stiffness, so the
+// rows of vertices surrounded by them vanish.
+SparseSolver factor_or_explain(const BcmSystem& sys, const BcmSettings& settings) {
+  try {
+    return SparseSolver(sys.a_pp, sys.symmetric, settings.solver);
+  } catch (const SolverError& e) {
+    if (sys.degenerate_faces == 0)
+      throw SolverError(std::string(e.what()) + "; the support's operator is singular: check the support for coincident "
+                                                "vertices and near-zero edges");
+    std::string faces;
+    for (int f : sys.degenerate_examples) faces += (faces.empty() ? "" : ", ") + std::to_string(f);
+    throw SolverError(std::string(e.what()) + "; " + std::to_string(sys.degenerate_faces) +
+                      " triangle(s) in the support are degenerate (zero area or needle-thin; faces " + faces +
+                      (sys.degenerate_faces > 5 ? ", ..." : "") +
+                      ") and carry no stiffness: repair them (merge coincident vertices, remove slivers) or keep "
+                      "them out of the support");
+  }
+}
+
 }  // namespace
 
 BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
@@ -59,8 +101,8 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   }
   auto t = Clock::now();
   BcmSystem sys = assemble_bcm_system(
-      mesh, domain.used ? domain.positions : operator_positions ? *operator_positions : mesh.positions(), regions, settings,
-      keep_system);
+      mesh, unit_scaled(domain.used ? domain.positions : operator_positions ? *operator_positions : mesh.positions()),
+      regions, settings, keep_system);
   stats_.assembly_ms = ms_since(t);
   stats_.symmetric = sys.symmetric;
   stats_.free = static_cast<int>(sys.free.size());
@@ -69,7 +111,7 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   progress.step("factorization", 0.15);
 
   t = Clock::now();
-  SparseSolver solver(sys.a_pp, sys.symmetric, settings.solver);
+  SparseSolver solver = factor_or_explain(sys, settings);
   stats_.factorization_ms = ms_since(t);
   stats_.solver = solver.name();
   progress.step("basis", 0.6);

@@ -220,7 +220,7 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
     const detail::FaceCorners c = detail::face_corners(mesh, f);
     const detail::CornerWeights w = detail::corner_weights(positions[c.v[0]], positions[c.v[1]], positions[c.v[2]]);
     if (w.degenerate) {
-      ++sys.degenerate_faces;
+      if (++sys.degenerate_faces <= 5) sys.degenerate_examples.push_back(f.idx());
       continue;
     }
     // face_corners: corner q lies opposite c.h[q], and c.h = (halfedge(f), next, next).

@@ -24,6 +24,7 @@ struct BcmSystem {
   Eigen::SparseMatrix<double> a_pc;  // P by C (exact zeros dropped)
   bool symmetric = false;            // checked numerically (is_symmetric), never assumed
   int degenerate_faces = 0;          // operator diagnostics on the assembled faces
+  std::vector<int> degenerate_examples;  // the first few of them (face indices), for messages
   int clamped_cotangents = 0;
   int zero_area_vertices = 0;        // rows whose area was floored (as in mixed_voronoi_areas)
   // With split_operator (the nonlinear model): S_k = outer * lap. lap: the cotangent Laplacian

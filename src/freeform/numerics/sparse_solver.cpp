@@ -58,7 +58,11 @@ namespace {
 using Ldlt = Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
 using Lu = Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>>;
 #if FREEFORM_HAVE_SUITESPARSE
-using Cholmod = Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower>;
+// Eigen's factorize() dereferences CHOLMOD's factor without checking it: when the analysis fails
+// (the factor is null) that was a crash. This exposes the factor so try_factor can check first.
+struct Cholmod : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
+  bool has_factor() const { return this->m_cholmodFactor != nullptr; }
+};
 // 64-bit indices (umfpack_dl_*): with 32-bit ones the LU of a 300k-row k = 3 system ran out of
 // index space and fell back to Eigen's SparseLU (132 s instead of seconds).
 using UmfMat = Eigen::SparseMatrix<double, Eigen::ColMajor, SuiteSparse_long>;
@@ -115,8 +119,12 @@ struct SparseSolver::Impl {
         auto& s = f.emplace<Cholmod>();
         s.cholmod().print = 0;  // failures are reported through SolverError, not stderr
         s.cholmod().supernodal = CHOLMOD_SUPERNODAL;
-        s.compute(a);
-        if (s.info() != Eigen::Success) return "the matrix is singular or not positive definite";
+        s.analyzePattern(a);
+        if (!s.has_factor() || s.cholmod().status < CHOLMOD_OK)
+          return "the symbolic analysis failed (CHOLMOD status " + std::to_string(s.cholmod().status) + ")";
+        s.factorize(a);
+        if (s.info() != Eigen::Success || s.cholmod().status < CHOLMOD_OK)
+          return "the matrix is singular or not positive definite";
         return {};
       }
       case SolverKind::Umfpack: {

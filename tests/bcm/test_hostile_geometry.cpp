@@ -1,0 +1,70 @@
+// Degenerate and extreme-scale geometry (issue "hostile input"): a clear SolverError naming the
+// degenerate triangles instead of a crash, and planes scaled by 1e80 / 1e-100 / 1e-310 solve
+// like the unit plane (the operator is assembled on a power-of-two rescaled copy).
+#include "bcm_fixtures.h"
+
+#include "freeform/common/error.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace freeform::test {
+namespace {
+
+// 11 x 11 unit plane scaled by s: support disk r < 0.4, handle r < 0.12 about the centre.
+RowMatrix lifted_plane(double s, int order) {
+  const Mesh unit = Mesh::from_soup(make_plane(10, 10));  // regions chosen at unit scale
+  const Vec3 c(0.5, 0.5, 0);
+  const std::vector<Vertex> support = within(unit, c, 0.4), handle = within(unit, c, 0.12);
+  TriangleSoup soup = make_plane(10, 10);
+  for (Vec3& p : soup.positions) p *= s;
+  const Mesh mesh = Mesh::from_soup(soup);
+  const Regions regions(mesh, support, {{handle, true}});
+  BcmSettings settings;
+  settings.order = order;
+  const BcmSolver solver(mesh, regions, settings);
+  Eigen::Affine3d lift = Eigen::Affine3d::Identity();
+  lift.translation() = Vec3(0, 0, 0.2 * s);
+  RowMatrix out(solver.n_free(), 3);
+  solver.evaluate(std::vector<Eigen::Affine3d>{lift}, out);
+  return out / s;
+}
+
+TEST(HostileGeometry, ExtremeScalesSolveLikeTheUnitPlane) {
+  for (int order : {1, 2, 3}) {
+    const RowMatrix unit = lifted_plane(1.0, order);
+    ASSERT_GT(unit.col(2).maxCoeff(), 0.05);
+    for (double s : {1e80, 1e-100, 1e150, 1e-150}) {
+      const RowMatrix scaled = lifted_plane(s, order);
+      EXPECT_LT((scaled - unit).cwiseAbs().maxCoeff(), 1e-12) << "k = " << order << ", scale " << s;
+    }
+    // Subnormal coordinates keep only the input's own precision (~1e-310 / 4.9e-324 ~ 1e-14 relative).
+    const RowMatrix tiny = lifted_plane(1e-310, order);
+    EXPECT_LT((tiny - unit).cwiseAbs().maxCoeff(), 1e-9) << "k = " << order;
+  }
+}
+
+TEST(HostileGeometry, CoincidentVerticesGiveAnErrorNamingTheTriangles) {
+  // A tetrahedron whose four vertices coincide: every triangle has zero area.
+  TriangleSoup soup;
+  soup.positions.assign(4, Vec3(1, 2, 3));
+  soup.faces = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}};
+  const Mesh mesh = Mesh::from_soup(soup);
+  const Regions regions(mesh, {Vertex(0), Vertex(1), Vertex(2)}, {{{Vertex(0)}, true}});
+  for (int order : {1, 2, 3}) {
+    BcmSettings settings;
+    settings.order = order;
+    try {
+      const BcmSolver solver(mesh, regions, settings);
+      ADD_FAILURE() << "no error for k = " << order;
+    } catch (const SolverError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("4 triangle(s) in the support are degenerate"), std::string::npos) << m;
+      EXPECT_NE(m.find("faces 0, 1, 2, 3"), std::string::npos) << m;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace freeform::test
