@@ -1,6 +1,7 @@
 // `freeform convert IN OUT`: rewrite a mesh in another format, optionally repaired.
 #include "commands.h"
 
+#include "freeform/io/file_util.h"
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/mesh.h"
 
@@ -16,11 +17,6 @@ struct ConvertOptions {
   std::string in, out, in_format, out_format;
   bool ascii = false, repair = false, overwrite_input = false;
 };
-
-bool same_file(const std::string& a, const std::string& b) {
-  std::error_code ec;
-  return std::filesystem::equivalent(a, b, ec);
-}
 
 void run(const ConvertOptions& opt) {
   ReadOptions ro;

@@ -31,12 +31,6 @@ struct DeformOptions {
   bool overwrite_input = false;
 };
 
-bool same_file(const std::string& a, const std::string& b) {
-  std::error_code ec;
-  if (std::filesystem::equivalent(a, b, ec)) return true;
-  return std::filesystem::weakly_canonical(a, ec) == std::filesystem::weakly_canonical(b, ec) && !ec;
-}
-
 // Median of one timing over the repeated frames (the report's evaluate and reconstruct times:
 // not one cold call).
 double median(std::vector<EditTimings> frames, double EditTimings::*field) {
@@ -54,8 +48,16 @@ double peak_memory_mb() {
 void run(const DeformOptions& opt) {
   if (same_file(opt.in, opt.out) && !opt.overwrite_input)
     throw InvalidInput("output " + opt.out + " is the input file; pass --overwrite-input to replace it");
-  if (!opt.report.empty() && (same_file(opt.report, opt.out) || same_file(opt.report, opt.in)))
-    throw InvalidInput("the report " + opt.report + " would overwrite the input or the output mesh");
+  // Never overwrite what the edit was read from, nor write the report over a mesh.
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {opt.edit, "edit file"}, {opt.sel, ".sel file"}, {opt.def, ".def file"}, {opt.in, "input mesh"}, {opt.out, "output mesh"}};
+  for (const auto& [path, what] : files) {
+    if (path.empty()) continue;
+    if (what.ends_with(" file") && same_file(opt.out, path))
+      throw InvalidInput("output " + opt.out + " is the " + what + " " + path + "; choose another output");
+    if (!opt.report.empty() && same_file(opt.report, path))
+      throw InvalidInput("the report " + opt.report + " would overwrite the " + what + " " + path);
+  }
   WriteOptions wo;
   wo.format = format_from_path(opt.out);  // refuse an unknown extension before any work
 
@@ -97,19 +99,16 @@ void run(const DeformOptions& opt) {
   if (!report["multiresolution"].is_null()) report["multiresolution"]["reconstruct_repeats"] = repeats;
   report["peak_memory_mb"] = peak_memory_mb();
 
+  // Both files are written to temporaries first and renamed only when both succeeded: a
+  // failure leaves whatever was there before (an earlier output included) untouched.
   try {
-    write_mesh(opt.out, soup, wo);
+    PreparedFile mesh_file(opt.out, mesh_bytes(opt.out, soup, wo));
+    std::optional<PreparedFile> report_file;
+    if (!opt.report.empty()) report_file.emplace(opt.report, report.dump(2) + "\n");
+    mesh_file.commit();
+    if (report_file) report_file->commit();
   } catch (const Error& e) {
     throw OutputError(e.what());
-  }
-  if (!opt.report.empty()) {
-    try {
-      write_file_atomic(opt.report, report.dump(2) + "\n");
-    } catch (const Error& e) {
-      std::error_code ec;
-      std::filesystem::remove(opt.out, ec);  // all or nothing
-      throw OutputError("report not written (and " + opt.out + " removed): " + e.what());
-    }
   }
   const Regions& regions = solver.regions();
   const BcmStats& st = solver.stats().bcm;

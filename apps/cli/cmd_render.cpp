@@ -66,13 +66,16 @@ vw::BoundingBox merge(const vw::BoundingBox& a, const vw::BoundingBox& b) {
 void run(const RenderOptions& opt) {
   // Command-line checks first (exit code 2), then inputs (1), then rendering and output (3).
   const auto [width, height] = parse_size(opt.size);
-  if (std::filesystem::path(opt.out).extension() != ".png")
+  if (std::filesystem::path(opt.out).extension() != ".png" && !is_special_file(opt.out))
     throw CLI::ValidationError("-o", "the output must be a .png file, got \"" + opt.out + "\"");
   const std::optional<vw::ViewPreset> preset = vw::parse_view_preset(opt.view);
   if (!preset) throw CLI::ValidationError("--view", "unknown view \"" + opt.view + "\"");
   if (opt.show == "original" && opt.edit.empty())
     throw CLI::ValidationError("--show", "--show original needs --edit (without an edit the mesh is shown as is)");
 
+  for (const std::string& input : {opt.mesh, opt.edit})
+    if (!input.empty() && same_file(opt.out, input))
+      throw InvalidInput("output " + opt.out + " is the input " + input + "; choose another output");
   ReadResult read = read_mesh(opt.mesh);
   for (const auto& w : read.warnings) fmt::print(stderr, "warning: {}\n", w);
   const Mesh mesh = Mesh::from_soup(read.soup);

@@ -243,12 +243,56 @@ TEST(CliDeform, OutputErrorsExitThreeAndLeaveNothing) {
   CliRun r = freeform_cli("deform " + q(s.mesh) + " --edit " + q(edit) + " -o " + q(s.dir / "no-such-dir" / "out.off"));
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_THAT(r.err, HasSubstr("no-such-dir"));
-  // The report cannot be written: the mesh output is removed again (all or nothing).
+  // The report cannot be written: the mesh is not written either (all or nothing).
   r = freeform_cli("deform " + q(s.mesh) + " --edit " + q(edit) + " -o " + q(s.dir / "out.off") + " --report " +
                    q(s.dir / "no-such-dir" / "r.json"));
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_FALSE(std::filesystem::exists(s.dir / "out.off"));
   EXPECT_EQ(count_files(s.dir.path()), 2u);
+  // An output from an earlier run survives a failed report (both are renamed only together).
+  const auto earlier = s.dir / "earlier.off";
+  { std::ofstream(earlier) << "earlier result"; }
+  r = freeform_cli("deform " + q(s.mesh) + " --edit " + q(edit) + " -o " + q(earlier) + " --report " +
+                   q(s.dir / "no-such-dir" / "r.json"));
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_EQ(slurp(earlier), "earlier result");
+  EXPECT_EQ(count_files(s.dir.path()), 3u);
+}
+
+// The report or the output naming a file the edit was read from is refused before any work.
+TEST(CliDeform, NeverOverwritesTheEditSelOrDefFiles) {
+  const Workspace s;
+  const auto edit = s.edit(kGoodEdit);
+  const std::string edit_before = slurp(edit), mesh_before = slurp(s.mesh);
+  for (const std::string& target : {edit.string(), s.mesh.string()}) {
+    const CliRun r = freeform_cli("deform " + q(s.mesh) + " --edit " + q(edit) + " -o " + q(s.dir / "out.off") +
+                                  " --report " + q(target));
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_THAT(r.err, HasSubstr("would overwrite"));
+  }
+  CliRun r = freeform_cli("deform " + q(s.mesh) + " --edit " + q(edit) + " -o " + q(edit));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("is the edit file"));
+  EXPECT_EQ(slurp(edit), edit_before);
+  EXPECT_EQ(slurp(s.mesh), mesh_before);
+  EXPECT_FALSE(std::filesystem::exists(s.dir / "out.off"));
+  // .sel / .def (the data folder's example pair), also through a symbolic link.
+  const std::string sel = std::string(FREEFORM_TEST_DATA_DIR) + "/edits/plane.sel";
+  const std::string def = std::string(FREEFORM_TEST_DATA_DIR) + "/edits/plane.def";
+  const std::string plane = std::string(FREEFORM_TEST_DATA_DIR) + "/edits/plane-10x10.off";
+  std::filesystem::create_symlink(sel, s.dir / "sel-link");
+  r = freeform_cli("deform " + q(plane) + " --sel " + q(sel) + " --def " + q(def) + " -o " + q(s.dir / "o.off") +
+                   " --report " + q(s.dir / "sel-link"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr(".sel file"));
+  r = freeform_cli("deform " + q(plane) + " --sel " + q(sel) + " --def " + q(def) + " -o " + q(def));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr(".def file"));
+  // Special files stream: the report to /dev/null, and /dev/null stays a device.
+  r = freeform_cli("deform " + q(plane) + " --sel " + q(sel) + " --def " + q(def) + " -o " + q(s.dir / "o.off") +
+                   " --report /dev/null");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::is_character_file("/dev/null"));
 }
 
 TEST(CliDeform, RefusesToOverwriteItsInput) {

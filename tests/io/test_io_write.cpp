@@ -4,9 +4,12 @@
 #include "freeform/io/file_util.h"
 
 #include <algorithm>
+#include <csignal>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+
+#include <sys/stat.h>
 
 namespace freeform::test {
 namespace {
@@ -192,6 +195,91 @@ TEST(FileUtil, FailedRenameLeavesOldTargetIntact) {
   EXPECT_TRUE(fs::is_directory(target));
   EXPECT_EQ(slurp(target / "inside.txt"), "precious");
   EXPECT_EQ(files_in(dir.path()), std::vector<std::string>{"mesh.obj"});
+}
+
+TEST(FileUtil, SymlinkedTargetKeepsItsLinkAndTheTargetIsReplaced) {
+  ScratchDir dir;
+  fs::create_directory(dir / "real");
+  const fs::path target = dir / "real" / "m.off", link = dir / "link.off";
+  write_file_atomic(target.string(), "old");
+  fs::create_symlink(target, link);
+  write_file_atomic(link.string(), "new");
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(link)));
+  EXPECT_EQ(read_file(target.string()), "new");
+  EXPECT_EQ(files_in(dir.path()), (std::vector<std::string>{"link.off", "real"}));
+  EXPECT_EQ(files_in(dir / "real"), std::vector<std::string>{"m.off"});
+  // A dangling link: its target is created.
+  const fs::path later = dir / "real" / "later.off", link2 = dir / "later-link.off";
+  fs::create_symlink(later, link2);
+  write_file_atomic(link2.string(), "created");
+  EXPECT_EQ(read_file(later.string()), "created");
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(link2)));
+}
+
+TEST(FileUtil, SpecialFilesAreWrittenInPlace) {
+  ASSERT_TRUE(is_special_file("/dev/null"));
+  ASSERT_TRUE(is_special_file("-"));
+  write_file_atomic("/dev/null", "discarded");
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));  // not replaced by a regular file, even as root
+  ScratchDir dir;
+  const std::string fifo = (dir / "pipe").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_TRUE(is_special_file(fifo));
+  EXPECT_FALSE(is_special_file((dir / "missing").string()));
+}
+
+TEST(FileUtil, UncommittedTemporariesAreRemovedOnTermination) {
+  ScratchDir dir;
+  const std::string path = (dir / "out.off").string();
+  write_file_atomic(path, "before");
+  for (int sig : {SIGTERM, SIGINT}) {
+    EXPECT_EXIT(
+        {
+          std::signal(sig, SIG_DFL);  // as in a program that did not install its own handler
+          PreparedFile f(path, "partial");
+          std::raise(sig);  // killed between writing the temporary and renaming it
+        },
+        ::testing::KilledBySignal(sig), "");
+    EXPECT_EQ(files_in(dir.path()), std::vector<std::string>{"out.off"}) << "signal " << sig;
+    EXPECT_EQ(read_file(path), "before");
+  }
+  {
+    PreparedFile f(path, "dropped");  // destroyed without commit
+  }
+  EXPECT_EQ(files_in(dir.path()), std::vector<std::string>{"out.off"});
+  EXPECT_EQ(read_file(path), "before");
+}
+
+TEST(FileUtil, EndlessAndSparseInputsAreRefusedWithBoundedMemory) {
+  try {
+    read_file("/dev/zero");
+    ADD_FAILURE() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("not a regular file and did not end"));
+  }
+  ScratchDir dir;
+  const std::string sparse = (dir / "sparse.off").string();
+  { std::ofstream(sparse) << "OFF\n"; }
+  fs::resize_file(sparse, std::uintmax_t{1} << 30);  // 1 GiB of holes
+  try {
+    read_file(sparse);
+    ADD_FAILURE() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("sparse file"));
+  }
+}
+
+TEST(FileUtil, SameFileSeesLinksAndSpellings) {
+  ScratchDir dir;
+  const fs::path a = dir / "a.off";
+  write_file_atomic(a.string(), "x");
+  fs::create_symlink(a, dir / "s.off");
+  fs::create_hard_link(a, dir / "h.off");
+  EXPECT_TRUE(same_file(a.string(), (dir / "s.off").string()));
+  EXPECT_TRUE(same_file(a.string(), (dir / "h.off").string()));
+  EXPECT_TRUE(same_file(a.string(), (dir / "." / "a.off").string()));
+  EXPECT_TRUE(same_file((dir / "new.off").string(), (dir / "." / "new.off").string()));  // neither exists
+  EXPECT_FALSE(same_file(a.string(), (dir / "b.off").string()));
 }
 
 }  // namespace

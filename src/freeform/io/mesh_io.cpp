@@ -95,6 +95,10 @@ ReadResult read_mesh(const std::string& path, const ReadOptions& options) {
 }
 
 void write_mesh(const std::string& path, const TriangleSoup& soup, const WriteOptions& options) {
+  write_file_atomic(path, mesh_bytes(path, soup, options));
+}
+
+std::string mesh_bytes(const std::string& path, const TriangleSoup& soup, const WriteOptions& options) {
   const MeshFormat format = resolve(options.format, path);
   std::string data;
   switch (format) {
@@ -113,7 +117,7 @@ void write_mesh(const std::string& path, const TriangleSoup& soup, const WriteOp
     case MeshFormat::Auto:
       FF_CHECK(false, "format not resolved");
   }
-  write_file_atomic(path, data);
+  return data;
 }
 
 }  // namespace freeform

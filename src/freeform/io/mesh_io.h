@@ -37,6 +37,8 @@ struct WriteOptions {
 };
 
 void write_mesh(const std::string& path, const TriangleSoup& soup, const WriteOptions& options = {});
+// The bytes write_mesh would write (format from options or the extension of `path`).
+std::string mesh_bytes(const std::string& path, const TriangleSoup& soup, const WriteOptions& options = {});
 
 // Format-level entry points on in-memory data (used by read_mesh / write_mesh and the fuzzers).
 // `name` is only used in error messages.
