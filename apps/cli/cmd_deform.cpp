@@ -124,6 +124,9 @@ void run(const DeformOptions& opt) {
                  "tolerance {:.2g}); raise \"nonlinear\": {{\"max_iterations\"}} in the edit file\n",
                  ns->iterations, ns->step, edit.nonlinear.tolerance);
   }
+  if (solver.stats().isolated_ignored > 0)
+    fmt::print(stderr, "warning: {} support vertices belong to no triangle (isolated): they were left where they are\n",
+               solver.stats().isolated_ignored);
   if (st.anisotropic)
     fmt::print("anisotropic bending: principal extents {:.4g} x {:.4g} equalized (parametrization {:.1f} ms)\n",
                st.principal_extents[0], st.principal_extents[1], st.parametrization_ms);

@@ -215,3 +215,50 @@ TEST(EditSolver, ProgressCancelsThePrecomputation) {
   EXPECT_FALSE(stages.empty());
   EXPECT_EQ(stages.back(), "detail");  // multiresolution last
 }
+
+// A closed sphere in the support with one movable handle and nothing fixed: the linear fill
+// from the handle collapses the sphere, so it is refused with the way out; the nonlinear model
+// (which keeps the rest shape) and an explicit "allow_unanchored" solve it.
+TEST(EditSolver, UnanchoredClosedComponentIsRefusedUnlessAllowed) {
+  const Mesh sphere = Mesh::from_soup(make_icosphere(2));
+  const std::string text = R"({"support": {"sphere": {"center": [0, 0, 0], "radius": 10}},
+      "handles": [{"region": {"sphere": {"center": [0, 0, 1], "radius": 0.3}},
+                   "transform": {"translate": [0, 0, 0.2]}}]})";
+  Edit edit = parse_edit_text(text, sphere, "sphere.json", ".");
+  try {
+    const EditSolver solver(sphere, edit);
+    ADD_FAILURE() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_THAT(e.what(), HasSubstr("closed component"));
+    EXPECT_THAT(e.what(), HasSubstr("allow_unanchored"));
+  }
+  edit.allow_unanchored = true;
+  EXPECT_NO_THROW(EditSolver(sphere, edit));
+  EXPECT_EQ(edit_to_json(edit)["allow_unanchored"], true);  // round trip of the option
+  edit.allow_unanchored = false;
+  edit.deformation = Deformation::Nonlinear;
+  EXPECT_NO_THROW(EditSolver(sphere, edit));
+  // One fixed vertex anchors it.
+  Edit anchored = parse_edit_text(text, sphere, "sphere.json", ".");
+  anchored.support.erase(anchored.support.begin());
+  EXPECT_NO_THROW(EditSolver(sphere, anchored));
+}
+
+// A support vertex that no triangle uses stays put with a count, instead of failing the edit
+// with "covers a whole component".
+TEST(EditSolver, IsolatedSupportVerticesStayAndAreCounted) {
+  TriangleSoup soup = make_plane(20, 20);
+  soup.positions.push_back(Vec3(0.5, 0.7, 0.01));  // unreferenced, in the support, not in the handle
+  const Mesh mesh = Mesh::from_soup(soup);
+  const Edit edit = parse_edit_text(R"({"support": {"sphere": {"center": [0.5, 0.5, 0], "radius": 0.31}},
+      "handles": [{"region": {"sphere": {"center": [0.5, 0.5, 0], "radius": 0.11}},
+                   "transform": {"translate": [0, 0, 0.2]}}]})", mesh, "test", ".");
+  const Vertex isolated(mesh.n_vertices() - 1);
+  ASSERT_TRUE(std::find(edit.support.begin(), edit.support.end(), isolated) != edit.support.end());
+  const EditSolver solver(mesh, edit);
+  EXPECT_EQ(solver.stats().isolated_ignored, 1);
+  VertexData<Vec3> x = mesh.positions();
+  solver.evaluate(solver.transforms(edit), x);
+  EXPECT_EQ(x[isolated], mesh.position(isolated));
+  EXPECT_GT(x[Vertex(10 * 21 + 10)].z(), 0.15);  // the centre moved with the handle
+}

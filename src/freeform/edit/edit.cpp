@@ -20,7 +20,12 @@ Regions edit_regions(const Mesh& mesh, const Edit& edit) {
   std::vector<HandleRegion> handles;
   handles.reserve(edit.handles.size());
   for (const EditHandle& h : edit.handles) handles.push_back(HandleRegion{h.vertices, h.movable});
-  return Regions(mesh, edit.support, std::move(handles));
+  // Isolated vertices (in no face) have no neighbours to bend with: they stay where they are.
+  std::vector<Vertex> support;
+  support.reserve(edit.support.size());
+  for (Vertex v : edit.support)
+    if (v.idx() < 0 || v.idx() >= mesh.n_vertices() || mesh.halfedge(v).is_valid()) support.push_back(v);
+  return Regions(mesh, support, std::move(handles));
 }
 
 }  // namespace freeform

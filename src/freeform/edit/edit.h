@@ -38,12 +38,16 @@ struct Edit {
   bool multiresolution = true;  // detail-preserving editing (docs/multires.md); the default
   Deformation deformation = Deformation::Linear;
   NonlinearOptions nonlinear;  // iterations and tolerance of the nonlinear model
+  // The linear model refuses a closed component held by movable handles only (nothing fixed):
+  // its fill collapses onto the handles. true: solve it anyway.
+  bool allow_unanchored = false;
 };
 
 int n_movable(const Edit& edit);
 
-// The Regions of an edit: its support and its handles in edit order. Throws InvalidInput as
-// Regions does.
+// The Regions of an edit: its support and its handles in edit order. Isolated vertices (in no
+// face) are left out of the support: they stay fixed (EditStats::isolated_ignored counts them).
+// Throws InvalidInput as Regions does.
 Regions edit_regions(const Mesh& mesh, const Edit& edit);
 
 }  // namespace freeform

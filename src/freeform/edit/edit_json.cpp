@@ -43,7 +43,8 @@ class Parser : JsonReader {
 
   Edit edit(const Json& j) {
     if (!j.is_object()) fail("the edit must be a JSON object, got " + type_of(j));
-    keys(j, "", {"order", "support", "handles", "smoothness", "anisotropic", "multiresolution", "deformation", "nonlinear"});
+    keys(j, "", {"order", "support", "handles", "smoothness", "anisotropic", "multiresolution", "deformation", "nonlinear",
+                 "allow_unanchored"});
     Edit e;
     if (j.contains("order")) {
       const long long k = integer(j["order"], "order");
@@ -56,6 +57,7 @@ class Parser : JsonReader {
     if (j.contains("anisotropic")) e.settings.anisotropic = boolean(j["anisotropic"], "anisotropic");
     if (j.contains("multiresolution")) e.multiresolution = boolean(j["multiresolution"], "multiresolution");
     if (j.contains("deformation")) e.deformation = deformation(j["deformation"]);
+    if (j.contains("allow_unanchored")) e.allow_unanchored = boolean(j["allow_unanchored"], "allow_unanchored");
     if (j.contains("nonlinear")) nonlinear(j["nonlinear"], e.nonlinear);
     e.support = selector(required(j, "", "support"), "support");
     if (j.contains("handles")) {
@@ -314,6 +316,7 @@ Json edit_to_json(const Edit& edit) {
   j["anisotropic"] = edit.settings.anisotropic;
   j["multiresolution"] = edit.multiresolution;
   j["deformation"] = deformation_name(edit.deformation);
+  if (edit.allow_unanchored) j["allow_unanchored"] = true;
   if (edit.deformation == Deformation::Nonlinear)
     j["nonlinear"] = Json{{"max_iterations", edit.nonlinear.max_iterations}, {"tolerance", edit.nonlinear.tolerance}};
   return j;

@@ -17,6 +17,43 @@ std::vector<Vertex> touched_vertices(const Regions& regions) {
   return out;
 }
 
+
+// A closed component whose constraints are all movable handles: the linear fill from the
+// handles alone replaces the whole surface and collapses onto them (a sphere shrinks to a
+// blob, multiresolution detail then explodes), so it is refused with the way out.
+void refuse_unanchored_closed_components(const Mesh& mesh, const Regions& regions) {
+  VertexData<char> seen(static_cast<std::size_t>(mesh.n_vertices()), 0);
+  std::vector<Vertex> stack;
+  for (Vertex start : regions.free_vertices()) {
+    if (seen[start]) continue;
+    bool closed = true, anchored = false;
+    int size = 0;
+    seen[start] = 1;
+    stack.assign(1, start);
+    while (!stack.empty()) {
+      const Vertex v = stack.back();
+      stack.pop_back();
+      ++size;
+      const Role r = regions.role(v);
+      if (r == Role::Fixed || (r == Role::Handle && regions.movable_index(regions.handle_of(v)) < 0)) anchored = true;
+      for (Halfedge h : mesh.outgoing(v)) {
+        if (mesh.is_boundary(h) || mesh.is_boundary(mesh.opposite(h))) closed = false;
+        const Vertex w = mesh.to_vertex(h);
+        if (!seen[w]) {
+          seen[w] = 1;
+          stack.push_back(w);
+        }
+      }
+    }
+    if (closed && !anchored)
+      throw InvalidInput("the support covers all of a closed component (" + std::to_string(size) +
+                         " vertices, free vertex " + std::to_string(start.idx()) +
+                         ") that only movable handles hold: the linear model replaces it by the fill between the "
+                         "handles, which collapses onto them. Leave part of it out of the support (fixed), make a "
+                         "handle immovable, use \"deformation\": \"nonlinear\", or set \"allow_unanchored\": true");
+  }
+}
+
 }  // namespace
 
 EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progress)
@@ -27,6 +64,9 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
   progress.check();
   stats_.deformation = edit.deformation;
   const bool nonlinear = edit.deformation == Deformation::Nonlinear;
+  if (!nonlinear && !edit.allow_unanchored) refuse_unanchored_closed_components(mesh, regions_);
+  for (Vertex v : edit.support)
+    if (v.idx() >= 0 && v.idx() < mesh.n_vertices() && !mesh.halfedge(v).is_valid()) ++stats_.isolated_ignored;
   if (edit.multiresolution) {
     MultiresOptions options;
     if (nonlinear) options.nonlinear = edit.nonlinear;

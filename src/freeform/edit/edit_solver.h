@@ -26,6 +26,7 @@ struct EditStats {
   Deformation deformation = Deformation::Linear;
   BcmStats bcm;                            // assembly, factorization, basis, solver, anisotropy
   std::optional<MultiresStats> multires;   // set with multiresolution
+  int isolated_ignored = 0;                // support vertices in no face, kept fixed (edit_regions)
 };
 
 // Wall times of the last evaluate(), in milliseconds.
