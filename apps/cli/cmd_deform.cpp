@@ -83,7 +83,7 @@ void run(const DeformOptions& opt) {
   const double evaluate_ms = median(frames, &EditTimings::evaluate_ms);
   const double reconstruct_ms = median(frames, &EditTimings::reconstruction_ms);
   const EditProblems problems = solver.problems(positions);
-  require_finite(problems);
+  require_finite(problems, transforms);
   TriangleSoup soup = std::move(read.soup);
   for (std::size_t i = 0; i < soup.positions.size(); ++i) soup.positions[i] = positions[Vertex(static_cast<int>(i))];
 

@@ -9,7 +9,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "freeform/common/json_messages.h"
+
 #include <fstream>
+#include <numbers>
 
 using namespace freeform;
 using ::testing::HasSubstr;
@@ -330,4 +333,52 @@ TEST(EditFile, WrittenEditsReadBackAndDeformBitForBit) {
   const Mesh a = deform(grid(), e), b = deform(grid(), back);
   for (Vertex v : grid().vertices()) EXPECT_EQ(a.position(v), b.position(v)) << v.idx();
   EXPECT_NE(a.position(Vertex(60)), grid().position(Vertex(60)));  // the edit did something
+}
+
+// Hostile values get messages that name the real cause, and extreme magnitudes are handled
+// without overflow or underflow (issue "hostile input").
+TEST(EditFile, ExtremeMagnitudesAndHostileKeys) {
+  // A rotation axis of length ~1e200 or ~3e-300 is still that direction (its norm overflows or
+  // underflows), not the identity or "the zero vector".
+  const auto rotation = [](const std::string& axis) {
+    return parse(with_handle("{" + kRegion + R"(, "transform": {"rotate": {"axis": )" + axis + R"(, "degrees": 90}}})"))
+        .handles[0]
+        .manipulator.rotation;
+  };
+  const Eigen::Quaterniond unit = rotation("[0, 0, 1]");
+  EXPECT_NEAR(unit.angularDistance(Eigen::Quaterniond::Identity()), std::numbers::pi / 2, 1e-12);
+  EXPECT_LT(rotation("[0, 0, 1e200]").angularDistance(unit), 1e-12);
+  EXPECT_LT(rotation("[0, 0, 3e-300]").angularDistance(unit), 1e-12);
+  // A tiny scale is named with its value, not called 0.
+  EXPECT_THAT(error(with_handle("{" + kRegion + R"(, "transform": {"scale": [1, 1e-13, 1]}})")),
+              HasSubstr("\"handles[0].transform.scale[1]\" is 1e-13, at most 1e-12"));
+  // A NUL byte in a key does not cut the message.
+  const std::string nul_key = R"({"support": {"vertices": [1]}, "bad\u0000key": 1})";  // valid JSON: an escaped NUL
+  EXPECT_THAT(error(nul_key), HasSubstr("\"bad\\u0000key\" (allowed here"));
+}
+
+TEST(EditFile, SelectorsAtExtremeScales) {
+  for (const double s : {1e-200, 1e200}) {
+    TriangleSoup soup = make_plane(10, 10);
+    for (Vec3& p : soup.positions) p *= s;
+    const Mesh mesh = Mesh::from_soup(soup);
+    const auto n = [](double x) { return json_messages::num(x); };
+    const Edit e = parse_edit_text(R"({"support": {"sphere": {"center": [)" + n(0.5 * s) + ", " + n(0.5 * s) +
+                                       R"(, 0], "radius": )" + n(0.25 * s) + R"(}},
+        "handles": [{"region": {"geodesic": {"center": [)" + n(0.5 * s) + ", " + n(0.5 * s) + ", " + n(0.001 * s) +
+                                       R"(], "radius": )" + n(0.05 * s) + "}}}]}",
+                                   mesh, "edit.json", ".");
+    EXPECT_EQ(e.support.size(), 21u) << s;  // 1 + 4 + 4 + 4 + 8: grid points within 2.5 spacings
+    EXPECT_EQ(e.handles[0].vertices, std::vector<Vertex>{Vertex(60)}) << s;
+  }
+}
+
+TEST(EditFile, OverflowingTransformsAreNamedAsSuch) {
+  const Edit e = parse(with_handle("{" + kRegion + R"(, "transform": {"translate": [1e308, 1e308, 0]}})"));
+  try {
+    Mesh out = deform(grid(), e);
+    ADD_FAILURE() << "expected an error";
+  } catch (const InvalidInput& ex) {
+    EXPECT_THAT(ex.what(), HasSubstr("too large for double precision"));
+  }
 }

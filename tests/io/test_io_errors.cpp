@@ -263,3 +263,24 @@ TEST(StlErrors, MalformedInput) {
 
 }  // namespace
 }  // namespace freeform::test
+
+namespace freeform::test {
+namespace {
+
+// Ascii STL coordinates are read as doubles: 1e-50 is a number (0 in single precision), and a
+// value beyond float's range is named as such instead of "invalid coordinate".
+TEST(IoErrors, AsciiStlExtremeCoordinates) {
+  const auto stl = [](const std::string& c) {
+    return "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 " + c +
+           "\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+  };
+  const TriangleSoup tiny = read_mem(MeshFormat::Stl, stl("1e-50"), "tiny.stl");
+  ASSERT_EQ(tiny.positions.size(), 3u);
+  EXPECT_EQ(tiny.positions[0].z(), 0.0);
+  EXPECT_THAT(read_error(MeshFormat::Stl, stl("3.5e38"), "huge.stl"),
+              ::testing::HasSubstr("huge.stl:4: facet 0: coordinate '3.5e38' is beyond the single-precision range"));
+  EXPECT_THAT(read_error(MeshFormat::Stl, stl("1x"), "bad.stl"), ::testing::HasSubstr("invalid coordinate"));
+}
+
+}  // namespace
+}  // namespace freeform::test

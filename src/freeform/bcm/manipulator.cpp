@@ -2,6 +2,7 @@
 #include "freeform/bcm/manipulator.h"
 
 #include "freeform/common/error.h"
+#include "freeform/common/json_messages.h"
 
 #include <cmath>
 #include <numbers>
@@ -11,9 +12,11 @@ namespace freeform {
 Eigen::Quaterniond Manipulator::axis_angle(const Vec3& axis, double degrees) {
   if (!axis.allFinite() || !std::isfinite(degrees))
     throw InvalidInput("rotation axis and angle must be finite numbers");
-  const double n = axis.norm();
-  if (!(n > 0.0)) throw InvalidInput("rotation axis is the zero vector; give a direction such as (0, 0, 1)");
-  return Eigen::Quaterniond(Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, axis / n));
+  // Scaled by its largest component first: axis.norm() overflows above ~1e154 (the rotation
+  // silently became the identity) and underflows below ~1e-154 ("zero vector").
+  const double m = axis.cwiseAbs().maxCoeff();
+  if (!(m > 0.0)) throw InvalidInput("rotation axis is the zero vector; give a direction such as (0, 0, 1)");
+  return Eigen::Quaterniond(Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, (axis / m).normalized()));
 }
 
 Eigen::Affine3d Manipulator::to_affine(const Vec3& default_pivot) const {
@@ -22,8 +25,11 @@ Eigen::Affine3d Manipulator::to_affine(const Vec3& default_pivot) const {
     throw InvalidInput("manipulator has a non-finite translation, rotation, scale or pivot");
   const double qn = rotation.norm();
   if (!(qn > 1e-12)) throw InvalidInput("manipulator rotation is a zero quaternion; use the identity (1, 0, 0, 0)");
-  if (!(scale.cwiseAbs().minCoeff() > 1e-12))
-    throw InvalidInput("manipulator scale has a zero component; the transform would be singular");
+  if (!(scale.cwiseAbs().minCoeff() > kMinScale))
+    throw InvalidInput(scale.cwiseAbs().minCoeff() == 0.0
+                           ? std::string("manipulator scale has a zero component; the transform would be singular")
+                           : "manipulator scale has a component of " + json_messages::num(scale.cwiseAbs().minCoeff()) +
+                                 ", at most 1e-12 in size; the transform would be numerically singular");
   const Eigen::Matrix3d rs = (Eigen::Quaterniond(rotation.coeffs() / qn).toRotationMatrix()) * scale.asDiagonal();
   Eigen::Affine3d t = Eigen::Affine3d::Identity();
   t.linear() = rs;

@@ -11,6 +11,7 @@
 namespace freeform {
 
 struct Manipulator {
+  static constexpr double kMinScale = 1e-12;  // smaller |scale| components make the map singular
   Vec3 translation = Vec3::Zero();
   Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();  // normalized on use
   Vec3 scale = Vec3::Ones();                                     // per axis, in the pivot's frame

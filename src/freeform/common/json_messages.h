@@ -18,7 +18,22 @@ inline std::string key_path(const std::string& parent, const std::string& key) {
   return parent.empty() ? key : parent + "." + key;
 }
 inline std::string index_path(const std::string& parent, std::size_t i) { return parent + "[" + std::to_string(i) + "]"; }
-inline std::string quoted(const std::string& path) { return "\"" + path + "\""; }
+// Control characters are escaped (\u0000): a NUL in a key must not cut the message short.
+inline std::string quoted(const std::string& path) {
+  std::string out = "\"";
+  for (const char c : path) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u != 0x7f) {
+      out += c;
+      continue;
+    }
+    constexpr char kHex[] = "0123456789abcdef";
+    out += "\\u00";
+    out += kHex[u >> 4];
+    out += kHex[u & 15];
+  }
+  return out + "\"";
+}
 
 // "the integer 3", "a string", ... for any nlohmann::basic_json.
 template <class Json>

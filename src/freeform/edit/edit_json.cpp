@@ -223,8 +223,11 @@ class Parser : JsonReader {
       const std::string p = key_path(path, "scale");
       man.scale = vec3(j["scale"], p);
       for (int i = 0; i < 3; ++i)
-        if (std::abs(man.scale[i]) <= 1e-12)
-          fail(quoted(index_path(p, static_cast<std::size_t>(i))) + " is 0: a zero scale flattens the handle (singular transform)");
+        if (std::abs(man.scale[i]) <= Manipulator::kMinScale)
+          fail(quoted(index_path(p, static_cast<std::size_t>(i))) +
+               (man.scale[i] == 0.0 ? std::string(" is 0: a zero scale flattens the handle (singular transform)")
+                                    : " is " + num(man.scale[i]) +
+                                          ", at most 1e-12 in size: it flattens the handle (numerically singular transform)"));
     }
     if (j.contains("rotate")) {
       const std::string p = key_path(path, "rotate");
@@ -233,8 +236,8 @@ class Parser : JsonReader {
       keys(rot, p, {"axis", "degrees"});
       const Vec3 axis = vec3(required(rot, p, "axis"), key_path(p, "axis"));
       const double degrees = number(required(rot, p, "degrees"), key_path(p, "degrees"));
-      if (!(axis.norm() > 0.0)) fail(quoted(key_path(p, "axis")) + " is the zero vector: a rotation needs an axis");
-      man.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, axis.normalized()));
+      if (axis == Vec3::Zero()) fail(quoted(key_path(p, "axis")) + " is the zero vector: a rotation needs an axis");
+      man.rotation = Manipulator::axis_angle(axis, degrees);  // scale-safe normalization
     }
   }
 };

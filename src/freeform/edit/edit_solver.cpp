@@ -1,6 +1,7 @@
 #include "freeform/edit/edit_solver.h"
 
 #include "freeform/common/error.h"
+#include "freeform/common/json_messages.h"
 
 #include <algorithm>
 #include <chrono>
@@ -182,18 +183,23 @@ EditProblems EditSolver::problems(const VertexData<Vec3>& positions) const {
   return p;
 }
 
-void require_finite(const EditProblems& problems) {
+void require_finite(const EditProblems& problems, std::span<const Eigen::Affine3d> transforms) {
   if (problems.non_finite == 0) return;
-  throw SolverError("the deformed mesh has " + std::to_string(problems.non_finite) +
-                    " non-finite positions (the first at vertex " + std::to_string(problems.first_non_finite.idx()) +
-                    "); try a smaller order or support");
+  const std::string what = "the deformed mesh has " + std::to_string(problems.non_finite) +
+                           " non-finite positions (the first at vertex " + std::to_string(problems.first_non_finite.idx()) + ")";
+  double largest = 0.0;  // of the transforms' entries: near 1e308 the products overflow
+  for (const Eigen::Affine3d& t : transforms) largest = std::max(largest, t.matrix().cwiseAbs().maxCoeff());
+  if (largest > 1e150)
+    throw InvalidInput(what + ": the transforms are too large for double precision (an entry of " +
+                       json_messages::num(largest) + "); move, rotate and scale by finite amounts well below 1e300");
+  throw SolverError(what + ": the system is too ill-conditioned for this support; try a smaller order or support");
 }
 
 Mesh deform(const Mesh& mesh, const Edit& edit, EditStats* stats) {
   const EditSolver solver(mesh, edit);
   Mesh out = mesh;
   solver.evaluate(solver.transforms(edit), out.positions());
-  require_finite(solver.problems(out.positions()));
+  require_finite(solver.problems(out.positions()), solver.transforms(edit));
   if (stats) *stats = solver.stats();
   return out;
 }

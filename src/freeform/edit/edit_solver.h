@@ -107,7 +107,9 @@ class EditSolver {
 };
 
 // Throws SolverError naming the first bad vertex if problems.non_finite > 0.
-void require_finite(const EditProblems& problems);
+// Throws when a frame produced non-finite positions, naming the cause: transforms too large for
+// double precision (InvalidInput) or an ill-conditioned system (SolverError).
+void require_finite(const EditProblems& problems, std::span<const Eigen::Affine3d> transforms = {});
 
 // Applies the edit to a copy of the mesh (vertex order and faces kept): EditSolver + one
 // evaluate with the edit's own transforms. Throws SolverError on a non-finite result.

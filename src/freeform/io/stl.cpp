@@ -145,8 +145,13 @@ TriangleSoup read_ascii(std::string_view data, const std::string& name, std::vec
       float xyz[3];  // STL coordinates are single precision, ascii or binary
       for (float& c : xyz) {
         tok = tokens.require("a vertex coordinate");
-        if (!io_detail::parse_real(tok, c))
+        double d = 0.0;  // read as double: 1e-50 is a number (it rounds to 0 in float), not a typo
+        if (!io_detail::parse_double(tok, d))
           tokens.fail(fmt::format("facet {}: invalid coordinate {}", facet, quote(tok)));
+        if (std::abs(d) > std::numeric_limits<float>::max())
+          tokens.fail(fmt::format("facet {}: coordinate {} is beyond the single-precision range of STL (+-3.4e38)",
+                                  facet, quote(tok)));
+        c = static_cast<float>(d);
         if (!std::isfinite(c))
           tokens.fail(
               fmt::format("facet {}: vertex {} has a non-finite coordinate {}", facet, poly.size(), quote(tok)));

@@ -1,6 +1,7 @@
 #include "freeform/regions/selectors.h"
 
 #include "freeform/common/error.h"
+#include "freeform/common/json_messages.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,11 +13,14 @@
 namespace freeform {
 namespace {
 
-std::string num(double x) {
-  std::ostringstream s;
-  s.precision(10);
-  s << x;
-  return s.str();
+using json_messages::num;
+
+// |a - b| without overflow or underflow of the squares (coordinates of 1e+-200).
+double distance(const Vec3& a, const Vec3& b) {
+  const Vec3 d = a - b;
+  const double m = d.cwiseAbs().maxCoeff();
+  if (!(m > 1e-150 && m < 1e150)) return m > 0.0 && std::isfinite(m) ? m * (d / m).norm() : m;
+  return d.norm();
 }
 
 void check_ball(const Vec3& center, double radius, const std::string& name) {
@@ -52,7 +56,7 @@ std::vector<Vertex> select_sphere(const Mesh& mesh, const Vec3& center, double r
   check_ball(center, radius, name);
   std::vector<Vertex> out;
   for (Vertex v : mesh.vertices())
-    if ((mesh.position(v) - center).norm() <= radius) out.push_back(v);
+    if (distance(mesh.position(v), center) <= radius) out.push_back(v);
   return nonempty(std::move(out), name, "no vertex within distance " + num(radius) + " of the center");
 }
 
@@ -61,13 +65,15 @@ Vertex nearest_vertex(const Mesh& mesh, const Vec3& p) {
   double best_d = std::numeric_limits<double>::infinity();
   for (Vertex v : mesh.vertices()) {
     if (mesh.is_isolated(v)) continue;
-    const double d = (mesh.position(v) - p).squaredNorm();
+    const double d = distance(mesh.position(v), p);
     if (d < best_d) {
       best_d = d;
       best = v;
     }
   }
-  if (!best.is_valid()) throw InvalidInput("the mesh has no faces, so no vertex lies on the surface");
+  if (!best.is_valid())
+    throw InvalidInput(p.allFinite() ? "the mesh has no faces, so no vertex lies on the surface"
+                                     : "the point is not finite, so no vertex is nearest to it");
   return best;
 }
 
@@ -96,7 +102,7 @@ VertexData<double> geodesic_distance(const Mesh& mesh, const VertexData<Vec3>& p
     if (reached) reached->push_back(v);
     for (Halfedge h : mesh.outgoing(v)) {
       const Vertex w = mesh.to_vertex(h);
-      const double nd = d + (positions[w] - positions[v]).norm();
+      const double nd = d + distance(positions[w], positions[v]);
       if (nd < dist[w] && nd <= max_distance) {
         dist[w] = nd;
         queue.emplace(nd, w.idx());
