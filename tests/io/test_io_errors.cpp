@@ -96,7 +96,8 @@ TEST(PlyErrors, HeaderProblems) {
       {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float128 x\n", {"bad.ply:4:", "unknown PLY type 'float128'"}},
       {"ply\nformat ascii 1.0\nproperty float x\n", {"bad.ply:3:", "property before any element"}},
       {"ply\nformat ascii 1.0\n" + v + f, {"bad.ply:8:", "end_header"}},
-      {"ply\nformat ascii 1.0\nelemnt vertex 3\n", {"bad.ply:3:", "unknown PLY header keyword"}},
+      {"ply\nformat ascii 1.0\nelemnt vertex 3\n", {"bad.ply:3:", "no 'end_header'", "line 3 'elemnt vertex 3' was not understood"}},
+      {"ply\nformat ascii 1.0\nelemnt vertex 3\nend_header\n", {"bad.ply", "no 'vertex' element", "line 3 'elemnt vertex 3'"}},
       {"ply\nformat ascii 1.0\nelement vertex 99999999999999999999999\n", {"bad.ply:3:", "invalid element count"}},
       {"ply\nformat ascii 1.0\n" + f + "end_header\n3 0 1 2\n", {"bad.ply", "no 'vertex' element"}},
       {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float z\n" + f + "end_header\n",
@@ -280,6 +281,27 @@ TEST(IoErrors, AsciiStlExtremeCoordinates) {
   EXPECT_THAT(read_error(MeshFormat::Stl, stl("3.5e38"), "huge.stl"),
               ::testing::HasSubstr("huge.stl:4: facet 0: coordinate '3.5e38' is beyond the single-precision range"));
   EXPECT_THAT(read_error(MeshFormat::Stl, stl("1x"), "bad.stl"), ::testing::HasSubstr("invalid coordinate"));
+}
+
+}  // namespace
+}  // namespace freeform::test
+
+namespace freeform::test {
+namespace {
+
+// assimp-testmodels' PLY/Wuson.ply (written by Blender 2.47) has a header line of free text
+// without the 'comment' keyword: read as a comment, with a warning naming the line.
+TEST(IoErrors, PlyHeaderFreeTextIsACommentWithAWarning) {
+  const std::string ply =
+      "ply\nformat ascii 1.0\nCreated by Blender3D 247 - www.blender.org, source file: 'wuson.blend'\n"
+      "element vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\n"
+      "property list uchar uint vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  std::vector<std::string> warnings;
+  const TriangleSoup soup = read_mem(MeshFormat::Ply, ply, "wuson.ply", &warnings);
+  EXPECT_EQ(soup.positions.size(), 3u);
+  EXPECT_EQ(soup.faces.size(), 1u);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], ::testing::HasSubstr("wuson.ply:3: unknown PLY header line 'Created by Blender3D"));
 }
 
 }  // namespace

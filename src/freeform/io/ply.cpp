@@ -83,6 +83,7 @@ struct Header {
   std::vector<Element> elements;
   std::size_t body_offset = 0;
   std::size_t body_line = 0;  // 1-based line of the first body byte (ascii)
+  std::string skipped;        // the first unknown header line read as a comment ("line N 'text'")
 };
 
 // What the reader extracts: property roles inside the vertex and face elements.
@@ -95,7 +96,7 @@ struct Layout {
   std::vector<std::vector<Role>> roles;  // per element, per property
 };
 
-Header parse_header(std::string_view data, const std::string& name) {
+Header parse_header(std::string_view data, const std::string& name, std::vector<std::string>& warnings) {
   io_detail::LineReader lines(data, name);
   std::string_view line;
   if (!lines.next(line)) fail(name, 0, "empty file");
@@ -162,10 +163,16 @@ Header parse_header(std::string_view data, const std::string& name) {
       p.name = std::string(pname);
       header.elements.back().props.push_back(std::move(p));
     } else {
-      lines.fail(fmt::format("unknown PLY header keyword {}", quote(kw)));
+      // Other writers put free text here without 'comment' (Blender 2.47: "Created by Blender3D
+      // ..."); other readers skip such lines, so do we, and say so.
+      const std::string text = quote(line.substr(0, std::min<std::size_t>(line.size(), 60)));
+      warnings.push_back(fmt::format("{}:{}: unknown PLY header line {} read as a comment", name, lines.line_number(), text));
+      if (header.skipped.empty()) header.skipped = fmt::format("line {} {}", lines.line_number(), text);
     }
   }
-  fail(name, lines.line_number(), "unexpected end of file: PLY header has no 'end_header' line");
+  fail(name, lines.line_number(),
+       "unexpected end of file: PLY header has no 'end_header' line" +
+           (header.skipped.empty() ? std::string() : " (" + header.skipped + " was not understood)"));
 }
 
 Layout make_layout(const Header& header, const std::string& name) {
@@ -184,8 +191,9 @@ Layout make_layout(const Header& header, const std::string& name) {
       face = e;
     }
   }
-  if (!vertex) fail(name, 0, "PLY header has no 'vertex' element");
-  if (!face) fail(name, 0, "no faces (PLY header has no 'face' element)");
+  const std::string hint = header.skipped.empty() ? "" : " (" + header.skipped + " was not understood)";
+  if (!vertex) fail(name, 0, "PLY header has no 'vertex' element" + hint);
+  if (!face) fail(name, 0, "no faces (PLY header has no 'face' element)" + hint);
   layout.vertex_element = *vertex;
   layout.face_element = *face;
 
@@ -439,7 +447,7 @@ void append_le(std::string& out, T value) {
 
 TriangleSoup read_ply(std::string_view data, const std::string& name, std::vector<std::string>& warnings) {
   if (data.empty()) fail(name, 0, "empty file");
-  const Header header = parse_header(data, name);
+  const Header header = parse_header(data, name, warnings);
   const Layout layout = make_layout(header, name);
   TriangleSoup soup;
   io_detail::FanCounter fan;
