@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
 #include <string>
 
 namespace freeform::test {
@@ -64,6 +66,36 @@ TEST(HostileGeometry, CoincidentVerticesGiveAnErrorNamingTheTriangles) {
       EXPECT_NE(m.find("faces 0, 1, 2, 3"), std::string::npos) << m;
     }
   }
+}
+
+// One vertex of valence 20000 (a huge polygon fanned around it) next to the free region: the
+// k-ring stencils would grow with the square of the valence (out of memory), so the edit is
+// refused quickly, naming the vertex; order 1 has no such coupling and solves.
+TEST(HostileGeometry, HugeValenceIsRefusedBeforeAssembly) {
+  constexpr int n = 20000;
+  TriangleSoup soup;
+  soup.positions.push_back(Vec3::Zero());
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * std::numbers::pi * i / n;
+    soup.positions.emplace_back(std::cos(a), std::sin(a), 0.0);
+  }
+  for (int i = 0; i < n; ++i) soup.faces.push_back({0, 1 + i, 1 + (i + 1) % n});
+  const Mesh mesh = Mesh::from_soup(soup);
+  std::vector<Vertex> support{Vertex(0)};
+  for (int i = 1; i <= n; i += 2) support.emplace_back(i);
+  const Regions regions(mesh, support, {{{Vertex(0)}, true}});
+  BcmSettings settings;
+  for (int order : {2, 3}) {
+    settings.order = order;
+    try {
+      const BcmSolver solver(mesh, regions, settings);
+      ADD_FAILURE() << "expected InvalidInput for k = " << order;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("vertex 0 has 20000 neighbours"), std::string::npos) << e.what();
+    }
+  }
+  settings.order = 1;
+  EXPECT_NO_THROW(BcmSolver(mesh, regions, settings));
 }
 
 }  // namespace

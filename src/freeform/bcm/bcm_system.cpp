@@ -168,6 +168,34 @@ int row_count(const Patch& p, int max_dist) {
   return n;
 }
 
+// Rows of the order-k operator couple a vertex with its k-ring, so one vertex of valence d near
+// the free region makes ~d rows of ~d entries each (a 1M-corner polygon fanned around one
+// vertex: out of memory). Refused above this bound on the 2-ring size of a free vertex; a
+// regular mesh has 19 (k = 2), irregular real meshes stay below a few hundred.
+constexpr long kMaxStencil = 4096;
+
+void check_stencil_size(const Mesh& mesh, const std::vector<Vertex>& free, int k) {
+  if (k < 2) return;
+  VertexData<int> cache(static_cast<std::size_t>(mesh.n_vertices()), -1);  // each valence counted once
+  auto valence = [&](Vertex v) { return cache[v] >= 0 ? cache[v] : (cache[v] = mesh.valence(v)); };
+  for (Vertex v : free) {
+    long bound = valence(v) + 1;
+    Vertex worst = v;
+    for (Halfedge h : mesh.outgoing(v)) {
+      const Vertex w = mesh.to_vertex(h);
+      bound += valence(w) + 1;
+      if (valence(w) > valence(worst)) worst = w;
+      if (bound > kMaxStencil) break;
+    }
+    if (bound > kMaxStencil)
+      throw InvalidInput("vertex " + std::to_string(worst.idx()) + " has " + std::to_string(valence(worst)) +
+                         " neighbours, next to free vertex " + std::to_string(v.idx()) + ": the order-" +
+                         std::to_string(k) + " operator would couple more than " + std::to_string(kMaxStencil) +
+                         " vertices in one row (memory grows with the square of the valence); remesh that fan, "
+                         "keep the vertex out of the support, or use order 1");
+  }
+}
+
 }  // namespace
 
 BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& positions, const Regions& regions,
@@ -190,6 +218,7 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
 
   BcmSystem sys;
   sys.free = regions.free_vertices();
+  check_stencil_size(mesh, sys.free, k);
   const Patch p = build_patch(mesh, sys.free, k);
   const int n_free = p.n_free;
   const int n_loc = static_cast<int>(p.order.size());
