@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (CMake preset `fuzz`, clang) and runs each reader's fuzzer.
+# Builds the libFuzzer targets (CMake preset `fuzz`, clang) and runs each one: the mesh readers
+# (obj off ply stl), edit files (edit), .sel/.def files (seldef) and editor sessions (session).
 #
-#   scripts/run-fuzzers.sh [seconds-per-target]     (default 60)
+#   scripts/run-fuzzers.sh [seconds-per-target] [target ...]     (default 60, all targets)
 #
 # Seeds come from data/tiny (copied into a scratch corpus under build/fuzz/corpus, not in git;
 # FUZZ_WORK_DIR overrides the location). Crash reproducers are written to <work>/artifacts/<fmt>/.
@@ -12,7 +13,9 @@ seconds="${1:-60}"
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 work="${FUZZ_WORK_DIR:-$root/build/fuzz/corpus}"
-targets=(obj off ply stl)
+shift || true
+targets=(obj off ply stl edit seldef session)
+[ "$#" -gt 0 ] && targets=("$@")
 
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz --target "${targets[@]/#/fuzz_}" -j "${FUZZ_JOBS:-2}"
@@ -23,7 +26,17 @@ for t in "${targets[@]}"; do
   corpus="$work/$t"
   artifacts="$work/artifacts/$t/"
   mkdir -p "$corpus" "$artifacts"
-  for seed in data/tiny/*."$t"; do
+  case "$t" in
+    edit) seeds=(data/edits/*.json) ;;
+    session) seeds=(fuzz/seeds/session.json) ;;
+    seldef)  # first byte: 0 = .sel, 1 = .def
+      for f in data/edits/*.sel data/edits/*.def; do
+        { [ "${f##*.}" = sel ] && printf 0 || printf 1; cat "$f"; } >"$corpus/seed-$(basename "$f")"
+      done
+      seeds=() ;;
+    *) seeds=(data/tiny/*."$t") ;;
+  esac
+  for seed in "${seeds[@]}"; do
     [ -e "$seed" ] && cp "$seed" "$corpus/"
   done
   dict=()

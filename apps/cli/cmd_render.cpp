@@ -79,7 +79,7 @@ void run(const RenderOptions& opt) {
   ReadResult read = read_mesh(opt.mesh);
   for (const auto& w : read.warnings) fmt::print(stderr, "warning: {}\n", w);
   const Mesh mesh = Mesh::from_soup(read.soup);
-  vw::RenderScene scene = vw::make_scene(mesh, vw::kPlainColor);
+  vw::RenderScene scene = vw::make_scene(mesh, vw::kPlainColor, /*recentre=*/true);
   vw::BoundingBox frame = scene.bounds;  // fitted to original and deformed: both renders align
   int legend_order = 0;  // draw the smoothness legend for this order (0: none)
   if (!opt.edit.empty()) {
@@ -102,7 +102,14 @@ void run(const RenderOptions& opt) {
   const double aspect = static_cast<double>(width) / height;
   vw::Camera camera = vw::fit_view(frame, *preset, aspect, 1.08, opt.up == "y" ? vw::UpAxis::Y : vw::UpAxis::Z);
   try {
-    if (!opt.camera.empty()) camera = vw::parse_camera_spec(opt.camera, camera);
+    if (!opt.camera.empty()) {  // the spec is in mesh coordinates, the scene is recentred
+      vw::Camera base = camera;
+      base.eye = scene.to_mesh(camera.eye);
+      base.target = scene.to_mesh(camera.target);
+      camera = vw::parse_camera_spec(opt.camera, base);
+      camera.eye = scene.to_scene(camera.eye);
+      camera.target = scene.to_scene(camera.target);
+    }
   } catch (const InvalidInput& e) {
     throw CLI::ValidationError("--camera", e.what());
   }

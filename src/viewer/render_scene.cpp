@@ -2,6 +2,8 @@
 
 #include "freeform/common/error.h"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <limits>
 
@@ -41,14 +43,24 @@ void extend(BoundingBox& box, const float* p) {
   box.max = box.max.cwiseMax(q);
 }
 
-RenderScene make_scene(const TriangleSoup& soup, const Rgb& color) {
+RenderScene make_scene(const TriangleSoup& soup, const Rgb& color, bool recentre) {
   if (soup.positions.empty() || soup.faces.empty()) throw InvalidInput("nothing to render: the mesh has no triangles");
   RenderScene s;
   const std::size_t n = soup.positions.size();
-  s.positions.reserve(3 * n);
+  Eigen::AlignedBox3d box;
   for (const Vec3& q : soup.positions) {
     if (!q.allFinite()) throw InvalidInput("cannot render a mesh with non-finite positions");
-    for (int k = 0; k < 3; ++k) s.positions.push_back(static_cast<float>(q[k]));
+    box.extend(q);
+  }
+  if (recentre) {
+    s.origin = box.min() + 0.5 * (box.max() - box.min());  // no overflow near +-1.8e308
+    const double extent = (box.max() - box.min()).maxCoeff();
+    if (extent > 0.0 && std::isfinite(extent)) s.scale = std::ldexp(1.0, -std::ilogb(extent));
+  }
+  s.positions.reserve(3 * n);
+  for (const Vec3& q : soup.positions) {
+    const Vec3 p = s.to_scene(q);
+    for (int k = 0; k < 3; ++k) s.positions.push_back(static_cast<float>(p[k]));
   }
   s.triangles.reserve(3 * soup.faces.size());
   for (const Tri& f : soup.faces)
@@ -64,13 +76,15 @@ RenderScene make_scene(const TriangleSoup& soup, const Rgb& color) {
   return s;
 }
 
-RenderScene make_scene(const Mesh& mesh, const Rgb& color) { return make_scene(mesh.to_soup(), color); }
+RenderScene make_scene(const Mesh& mesh, const Rgb& color, bool recentre) {
+  return make_scene(mesh.to_soup(), color, recentre);
+}
 
 void update_geometry(RenderScene& scene, const VertexData<Vec3>& positions) {
   if (static_cast<int>(positions.size()) != scene.n_vertices())
     throw InvalidInput("update_geometry: vertex count changed");
   for (int v = 0; v < scene.n_vertices(); ++v) {
-    const Vec3& q = positions[Vertex(v)];
+    const Vec3 q = scene.to_scene(positions[Vertex(v)]);
     for (int k = 0; k < 3; ++k) scene.positions[static_cast<std::size_t>(3 * v + k)] = static_cast<float>(q[k]);
   }
   compute_normals(scene);

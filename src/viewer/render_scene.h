@@ -25,17 +25,25 @@ struct RenderScene {
   std::vector<float> colors;            // #V x 3, rgb per vertex
   std::vector<std::uint32_t> triangles; // #F x 3, counter-clockwise
   BoundingBox bounds;                   // of the positions
+  // Scene coordinates are (mesh - origin) * scale: recentred scenes keep float precision far
+  // from the origin (5e6) and beyond float's range (1e39). Identity unless make_scene recentres.
+  Vec3 origin = Vec3::Zero();
+  double scale = 1.0;
+  Vec3 to_scene(const Vec3& p) const { return (p - origin) * scale; }
+  Vec3 to_mesh(const Vec3& p) const { return origin + p / scale; }
 
   int n_vertices() const { return static_cast<int>(positions.size() / 3); }
   int n_triangles() const { return static_cast<int>(triangles.size() / 3); }
 };
 
 // The scene of a triangle soup in one colour. Vertices that no face uses get a zero normal.
+// recentre: origin = the bounding box centre, scale = a power of two bringing its size near 1.
 // Throws InvalidInput for an empty soup or a face index out of range.
-RenderScene make_scene(const TriangleSoup& soup, const Rgb& color);
-RenderScene make_scene(const Mesh& mesh, const Rgb& color);
+RenderScene make_scene(const TriangleSoup& soup, const Rgb& color, bool recentre = false);
+RenderScene make_scene(const Mesh& mesh, const Rgb& color, bool recentre = false);
 
-// Replaces positions, recomputes normals and bounds (same vertex count; InvalidInput if not).
+// Replaces positions (mesh coordinates, mapped with the scene's origin and scale), recomputes
+// normals and bounds (same vertex count; InvalidInput if not).
 void update_geometry(RenderScene& scene, const VertexData<Vec3>& positions);
 
 // Sets every vertex colour; `colors` has one entry per vertex (InvalidInput if not).

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
+#include <tuple>
 
 using namespace freeform;
 using namespace freeform::test;
@@ -255,4 +256,41 @@ TEST(CliRender, NoEglDriverFailsClearly) {
   EXPECT_NE(r.err.find("cannot render"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("EGL"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// A mesh far from the origin (offset 5e6: float keeps ~0.5 units there) or beyond float's range
+// (1e39) renders like the same mesh at the origin: the scene is recentred and rescaled before
+// it becomes floats. A user camera is given in mesh coordinates.
+TEST(CliRender, FarAndHugeMeshesRenderLikeTheMeshAtTheOrigin) {
+  const Plane s;
+  const auto render = [&](const std::string& name, double scale, double offset, const std::string& extra) {
+    TriangleSoup soup = make_plane(40, 40);
+    for (Vec3& p : soup.positions) p = p * scale + Vec3::Constant(offset);
+    const auto mesh = s.dir / (name + ".off");
+    write_mesh(mesh.string(), soup);
+    const auto out = s.dir / (name + ".png");
+    const CliRun r = freeform_cli("render " + q(mesh) + " --view top --size 160x120 --samples 0 --wireframe" + extra +
+                                  " -o " + q(out));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return load_png(out.string());
+  };
+  const Image ref = render("ref", 1.0, 0.0, "");
+  int covered = 0;
+  for (int y = 0; y < ref.height; ++y)
+    for (int x = 0; x < ref.width; ++x) covered += classify(ref.at(x, y)) != PixelClass::Background;
+  ASSERT_GT(covered, 160 * 120 / 4);
+  for (const auto& [name, scale, offset] : {std::tuple{"far", 1.0, 5e6}, std::tuple{"huge", 1e39, 0.0},
+                                           std::tuple{"far-huge", 1e39, 3e40}}) {
+    const Image img = render(name, scale, offset, "");
+    int differ = 0;
+    for (int y = 0; y < ref.height; ++y)
+      for (int x = 0; x < ref.width; ++x) differ += classify(img.at(x, y)) != classify(ref.at(x, y));
+    EXPECT_LT(differ, 0.01 * covered) << name;  // the wireframe's grid lines land on the same pixels
+  }
+  // A camera in mesh coordinates, 5e6 away from the origin, sees the plane too.
+  const Image cam = render("far-camera", 1.0, 5e6, " --camera 'eye=5000000.5,5000000.5,5000003;target=5000000.5,5000000.5,5000000;up=0,1,0'");
+  int seen = 0;
+  for (int y = 0; y < cam.height; ++y)
+    for (int x = 0; x < cam.width; ++x) seen += classify(cam.at(x, y)) != PixelClass::Background;
+  EXPECT_GT(seen, 160 * 120 / 8);
 }

@@ -95,7 +95,8 @@ const Json& JsonReader::required(const Json& obj, const std::string& path, const
 }
 
 void JsonReader::keys(const Json& obj, const std::string& path, std::initializer_list<const char*> allowed) const {
-  for (const auto& [key, value] : obj.items()) {
+  for (const auto& item : obj.items()) {
+    const std::string& key = item.key();  // not a structured binding: clang 14 cannot capture those
     if (std::any_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; })) continue;
     std::string list;
     for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + "\"" + a + "\"";
