@@ -49,11 +49,16 @@ void run(const DeformOptions& opt) {
   if (same_file(opt.in, opt.out) && !opt.overwrite_input)
     throw InvalidInput("output " + opt.out + " is the input file; pass --overwrite-input to replace it");
   // Never overwrite what the edit was read from, nor write the report over a mesh.
-  const std::vector<std::pair<std::string, std::string>> files = {
-      {opt.edit, "edit file"}, {opt.sel, ".sel file"}, {opt.def, ".def file"}, {opt.in, "input mesh"}, {opt.out, "output mesh"}};
-  for (const auto& [path, what] : files) {
+  struct Named {
+    const std::string& path;
+    const char* what;
+    bool edit_input;  // read by the edit: never an output
+  };
+  for (const auto& [path, what, edit_input] : {Named{opt.edit, "edit file", true}, Named{opt.sel, ".sel file", true},
+                                               Named{opt.def, ".def file", true}, Named{opt.in, "input mesh", false},
+                                               Named{opt.out, "output mesh", false}}) {
     if (path.empty()) continue;
-    if (what.ends_with(" file") && same_file(opt.out, path))
+    if (edit_input && same_file(opt.out, path))
       throw InvalidInput("output " + opt.out + " is the " + what + " " + path + "; choose another output");
     if (!opt.report.empty() && same_file(opt.report, path))
       throw InvalidInput("the report " + opt.report + " would overwrite the " + what + " " + path);
@@ -124,6 +129,11 @@ void run(const DeformOptions& opt) {
                  "tolerance {:.2g}); raise \"nonlinear\": {{\"max_iterations\"}} in the edit file\n",
                  ns->iterations, ns->step, edit.nonlinear.tolerance);
   }
+  if (st.degenerate_faces > 0 || st.clamped_cotangents > 0)
+    fmt::print(stderr,
+               "warning: {} degenerate triangles (no stiffness) and {} clamped cotangents (needle-thin triangles) in "
+               "the support's operator\n",
+               st.degenerate_faces, st.clamped_cotangents);
   if (solver.stats().isolated_ignored > 0)
     fmt::print(stderr, "warning: {} support vertices belong to no triangle (isolated): they were left where they are\n",
                solver.stats().isolated_ignored);

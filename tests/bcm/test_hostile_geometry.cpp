@@ -68,6 +68,22 @@ TEST(HostileGeometry, CoincidentVerticesGiveAnErrorNamingTheTriangles) {
   }
 }
 
+// Four vertices of one grid quad moved onto each other inside the support: their triangles are
+// degenerate (clamped and reported, DESIGN.md section 2) and the solve stays finite.
+TEST(HostileGeometry, CoincidentVerticesInsideTheSupportAreReported) {
+  TriangleSoup soup = make_plane(10, 10);
+  for (int k : {5 * 11 + 3, 5 * 11 + 4, 4 * 11 + 3, 4 * 11 + 4}) soup.positions[static_cast<std::size_t>(k)] = soup.positions[5 * 11 + 3];
+  const Mesh mesh = Mesh::from_soup(soup);
+  const Regions regions(mesh, within(mesh, Vec3(0.5, 0.5, 0), 0.4), {{within(mesh, Vec3(0.5, 0.5, 0), 0.12), true}});
+  const BcmSolver solver(mesh, regions, BcmSettings{});
+  EXPECT_GE(solver.stats().degenerate_faces, 2);
+  Eigen::Affine3d lift = Eigen::Affine3d::Identity();
+  lift.translation() = Vec3(0, 0, 0.2);
+  RowMatrix out(solver.n_free(), 3);
+  solver.evaluate(std::vector<Eigen::Affine3d>{lift}, out);
+  EXPECT_TRUE(out.allFinite());
+}
+
 // One vertex of valence 20000 (a huge polygon fanned around it) next to the free region: the
 // k-ring stencils would grow with the square of the valence (out of memory), so the edit is
 // refused quickly, naming the vertex; order 1 has no such coupling and solves.

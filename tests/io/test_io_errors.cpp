@@ -283,12 +283,6 @@ TEST(IoErrors, AsciiStlExtremeCoordinates) {
   EXPECT_THAT(read_error(MeshFormat::Stl, stl("1x"), "bad.stl"), ::testing::HasSubstr("invalid coordinate"));
 }
 
-}  // namespace
-}  // namespace freeform::test
-
-namespace freeform::test {
-namespace {
-
 // assimp-testmodels' PLY/Wuson.ply (written by Blender 2.47) has a header line of free text
 // without the 'comment' keyword: read as a comment, with a warning naming the line.
 TEST(IoErrors, PlyHeaderFreeTextIsACommentWithAWarning) {

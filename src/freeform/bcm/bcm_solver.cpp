@@ -107,6 +107,8 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   stats_.symmetric = sys.symmetric;
   stats_.free = static_cast<int>(sys.free.size());
   stats_.constrained = static_cast<int>(sys.constrained.size());
+  stats_.degenerate_faces = sys.degenerate_faces;
+  stats_.clamped_cotangents = sys.clamped_cotangents;
   free_ = std::move(sys.free);
   progress.step("factorization", 0.15);
 

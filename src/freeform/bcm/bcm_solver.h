@@ -32,6 +32,10 @@ struct BcmStats {
   int constrained = 0;     // C: constrained vertices in the system
   double assembly_ms = 0, factorization_ms = 0, basis_ms = 0;
   double residual = 0;     // max over right-hand sides of |A_pp X - B| / |B| (relative)
+  // DESIGN.md section 2 diagnostics of the assembled faces: degenerate ones (no weights, no
+  // area) and cotangents clamped on needle-thin ones.
+  int degenerate_faces = 0;
+  int clamped_cotangents = 0;
   // Anisotropic bending (settings.anisotropic; param/anisotropic.h): whether its operator was
   // used, the principal extents (major, minor) of the conformal map before equalizing, why it
   // fell back to the isotropic operator (empty if used or not requested), its wall time.

@@ -42,6 +42,7 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
       {"timings_ms",
        {{"assembly", st.assembly_ms}, {"factorization", st.factorization_ms}, {"basis", st.basis_ms}, {"evaluate", frame.evaluate_ms}}},
       {"residual", st.residual},
+      {"operator", {{"degenerate_faces", st.degenerate_faces}, {"clamped_cotangents", st.clamped_cotangents}}},
       {"folded_edges", problems.folded_edges},
       {"anisotropic",
        {{"requested", settings.anisotropic},

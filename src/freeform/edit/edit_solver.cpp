@@ -18,7 +18,6 @@ std::vector<Vertex> touched_vertices(const Regions& regions) {
   return out;
 }
 
-
 // A closed component whose constraints are all movable handles: the linear fill from the
 // handles alone replaces the whole surface and collapses onto them (a sphere shrinks to a
 // blob, multiresolution detail then explodes), so it is refused with the way out.

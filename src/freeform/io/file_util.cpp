@@ -95,7 +95,11 @@ off_t data_bytes(int fd, off_t size) {
   off_t total = 0, pos = 0;
   while (pos < size) {
     const off_t start = ::lseek(fd, pos, SEEK_DATA);
-    if (start < 0) break;  // ENXIO: only holes remain
+    if (start < 0) {
+      if (errno == ENXIO) break;  // only holes remain
+      total = size;               // no verdict where the file system cannot tell
+      break;
+    }
     const off_t end = ::lseek(fd, start, SEEK_HOLE);
     if (end < 0) return size;
     total += end - start;
