@@ -150,11 +150,10 @@ def main():
         s = vv[-1][0] - vv[0][0] if label.startswith("scale") else 1.0
         dfile = write(os.path.join(work, "geom.def"), "1 0 0 0\n0 1 0 0\n0 0 1 %r\n0 0 0 1\n" % (0.2 * s))
         for k in (2, 3):
-            for mr in ("", ):
-                run("degenerate / extreme geometry", ["deform", mesh, "--sel", sel, "--def", dfile, "--order", str(k),
-                                                        "-o", out], work, outputs=[out], inputs=[mesh])
-                if os.path.exists(out):
-                    os.remove(out)
+            run("degenerate / extreme geometry", ["deform", mesh, "--sel", sel, "--def", dfile, "--order", str(k),
+                                                    "-o", out], work, outputs=[out], inputs=[mesh])
+            if os.path.exists(out):
+                os.remove(out)
         run("degenerate / extreme geometry", ["render", mesh, "-o", os.path.join(work, "g.png"), "--size", "64x48"],
             work, outputs=[os.path.join(work, "g.png")], inputs=[mesh])
 

@@ -5,6 +5,7 @@
 // gray; docs/render.md) on the deformed (default) or the original shape.
 #include "commands.h"
 
+#include "freeform/bcm/boundary_band.h"
 #include "freeform/edit/edit_json.h"
 #include "freeform/edit/edit_solver.h"
 #include "freeform/io/file_util.h"
@@ -88,7 +89,7 @@ void run(const RenderOptions& opt) {
     std::vector<vw::Rgb> colors = vw::region_colors(regions);
     const bool band = opt.band == "on" || (opt.band == "auto" && !edit.settings.smoothness.segments.empty());
     if (band && edit.settings.order > 1) {
-      vw::color_smoothness_band(colors, mesh, regions, edit.settings);
+      vw::color_smoothness_band(colors, smoothness_band(mesh, regions, edit.settings.order), regions, edit.settings);
       legend_order = edit.settings.order;
     }
     vw::set_colors(scene, colors);

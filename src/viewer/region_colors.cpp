@@ -32,10 +32,10 @@ Rgb smoothness_color(double c) {
   return out;
 }
 
-void color_smoothness_band(std::vector<Rgb>& colors, const Mesh& mesh, const Regions& regions,
+void color_smoothness_band(std::vector<Rgb>& colors, std::span<const Vertex> band, const Regions& regions,
                            const BcmSettings& settings) {
   const std::vector<double> c = smoothness_per_vertex(regions, settings);
-  for (Vertex v : smoothness_band(mesh, regions, settings.order))
+  for (Vertex v : band)
     colors[static_cast<std::size_t>(v.idx())] = smoothness_color(c[static_cast<std::size_t>(v.idx())]);
 }
 

@@ -7,6 +7,7 @@
 #include "freeform/bcm/settings.h"
 #include "freeform/regions/regions.h"
 
+#include <span>
 #include <vector>
 
 namespace freeform::viewer {
@@ -28,9 +29,9 @@ std::vector<Rgb> region_colors(const Regions& regions, const RegionPalette& pale
 // violet at C2, linear in between (c is clamped to [0, 2]).
 Rgb smoothness_color(double c);
 
-// Recolours the smoothness band (bcm/boundary_band.h: where c acts) by smoothness_color of
-// each band vertex's c; `colors` has one entry per vertex.
-void color_smoothness_band(std::vector<Rgb>& colors, const Mesh& mesh, const Regions& regions,
+// Recolours the smoothness band (bcm/boundary_band.h: where c acts, as smoothness_band gives
+// it) by smoothness_color of each band vertex's c; `colors` has one entry per vertex.
+void color_smoothness_band(std::vector<Rgb>& colors, std::span<const Vertex> band, const Regions& regions,
                            const BcmSettings& settings);
 
 }  // namespace freeform::viewer

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <functional>
 #include <queue>
-#include <sstream>
 #include <utility>
 
 namespace freeform {
