@@ -45,7 +45,7 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-nlohmann::json run(const std::string& name, int frames, int width, int height, int samples) {
+nlohmann::json run(const std::string& name, int frames, int width, int height, int samples, bool nonlinear) {
   const auto path = bench::mesh_dir() / name;
   Mesh mesh = Mesh::from_soup(bench::subdivide_midpoint(read_mesh(path.string()).soup));
   const int n_free = 35000, n_handle = 700;
@@ -58,6 +58,11 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
   doc.open_mesh(std::move(mesh), path.string());
   doc.set_region(editor::PaintMode::Support, support, false);
   doc.set_region(editor::PaintMode::Handle, handle, false);
+  if (nonlinear) {
+    editor::EditParameters p = doc.parameters();
+    p.nonlinear = true;
+    doc.set_parameters(p);
+  }
   const auto t_pre = Clock::now();
   doc.wait_for_precompute();
   const double precompute_ms = ms_since(t_pre);
@@ -73,7 +78,7 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
   const viewer::Camera camera = viewer::fit_view(scene.bounds, viewer::ViewPreset::Iso, double(width) / height);
   const double diag = 2.0 * scene.bounds.radius();
 
-  std::vector<double> evaluate, reconstruction, update, normals, upload, frame, draw, full_normals, full_upload, full_frame;
+  std::vector<double> iterations, evaluate, reconstruction, update, normals, upload, frame, draw, full_normals, full_upload, full_frame;
   const Manipulator start = doc.state().find_handle(id)->manipulator;
   viewer::RenderScene full = scene;  // the whole-mesh path, for the before/after comparison
   doc.update_display();
@@ -82,6 +87,8 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
   for (int f = 0; f < frames; ++f) {
     Manipulator m = start;
     m.translation += Vec3(0.0, 0.05 * diag * std::sin(0.1 * (f + 1)), 0.02 * diag);
+    // The nonlinear model is for rotations: the handle also turns, up to 90 degrees.
+    if (nonlinear) m.rotation = Eigen::AngleAxisd(1.5708 * (f + 1) / frames, Vec3::UnitX()) * m.rotation;
     doc.preview_manipulator(id, m);
     auto t = Clock::now();
     const editor::FrameTimings ft = doc.update_display();
@@ -109,6 +116,7 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
     glFinish();
     draw.push_back(ms_since(t));
     evaluate.push_back(ft.evaluate_ms);
+    iterations.push_back(ft.iterations);
     reconstruction.push_back(ft.reconstruction_ms);
     update.push_back(update_ms);
     normals.push_back(normals_ms);
@@ -124,12 +132,14 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
           {"handle", n_handle},
           {"order", doc.parameters().order},
           {"multiresolution", doc.parameters().multiresolution},
+          {"deformation", nonlinear ? "nonlinear" : "linear"},
           {"precompute_ms", precompute_ms},
           {"frames", frames},
           {"viewport", std::to_string(width) + "x" + std::to_string(height) + " " + std::to_string(samples) + "xMSAA"},
           {"gl", context.description()},
           {"median_ms",
            {{"evaluate", median(evaluate)},
+            {"nonlinear_iterations", median(iterations)},
             {"reconstruction", median(reconstruction)},
             {"update_display", median(update)},
             {"normals", median(normals)},
@@ -147,10 +157,12 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
 }  // namespace
 
 int main(int argc, char** argv) {
+  // bench_editor_frame [frames] [nonlinear]: the second runs the nonlinear model on a rotating drag.
   const int frames = argc > 1 ? std::max(5, std::atoi(argv[1])) : 60;
+  const bool nonlinear = argc > 2 && std::string(argv[2]) == "nonlinear";
   try {
     nlohmann::json out = nlohmann::json::array();
-    for (const char* name : {"armadillo.off", "bunny00.off"}) out.push_back(run(name, frames, 1280, 800, 4));
+    for (const char* name : {"armadillo.off", "bunny00.off"}) out.push_back(run(name, frames, 1280, 800, 4, nonlinear));
     std::cout << out.dump(2) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "bench_editor_frame: " << e.what() << "\n";

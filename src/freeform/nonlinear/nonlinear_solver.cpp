@@ -49,6 +49,7 @@ struct NonlinearSolver::Data {
   // handle's, or the identity), and the free vertices' guidance rotation of the last start.
   std::vector<Eigen::Quaterniond> q, guide;
   std::vector<double> scale;
+  std::vector<Eigen::Matrix3d> rot;  // scale * rotation - identity per local vertex (workspace)
   std::vector<Eigen::Matrix3d> cov, cov2;  // workspace of the rotation fit
   Eigen::MatrixXd ac;                // P x 3: A_pc (x_c - x_c rest), fixed during a solve
   Eigen::MatrixXd b1;                // n_inner x 3: rotated minus rest Laplacian coordinates
@@ -109,6 +110,7 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
   d.q.assign(static_cast<std::size_t>(p + c), Eigen::Quaterniond::Identity());
   d.guide.assign(static_cast<std::size_t>(p), Eigen::Quaterniond::Identity());
   d.scale.assign(static_cast<std::size_t>(p + c), 1.0);
+  d.rot.resize(static_cast<std::size_t>(p + c));
   d.cov.resize(static_cast<std::size_t>(p));
   d.cov2.resize(static_cast<std::size_t>(p));
   d.ac = Eigen::MatrixXd::Zero(p, 3);
@@ -182,17 +184,20 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
     // Global step: the rest's Laplacian coordinates with each edge rotated and scaled by the
     // mean of its ends (ARAP's right-hand side), minus the rest's own: exactly zero at rest.
     //   A_pp (x_p - rest_p) = outer * b1 - A_pc (x_c - rest_c)
+    const int n_local = static_cast<int>(d.q.size());
+#pragma omp parallel for schedule(static) if (n_local > kParallelRows)
+    for (int i = 0; i < n_local; ++i) {
+      const auto ui = static_cast<std::size_t>(i);
+      d.rot[ui] = d.scale[ui] * d.q[ui].toRotationMatrix() - Eigen::Matrix3d::Identity();
+    }
 #pragma omp parallel for schedule(static) if (n_inner > kParallelRows)
     for (int i = 0; i < n_inner; ++i) {
-      const auto ui = static_cast<std::size_t>(i);
-      const Eigen::Matrix3d ri = d.scale[ui] * d.q[ui].toRotationMatrix();
+      const Eigen::Matrix3d& ri = d.rot[static_cast<std::size_t>(i)];
       Vec3 b = Vec3::Zero();
       for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator e(lap, i); e; ++e) {
-        const auto j = static_cast<std::size_t>(e.col());
         if (e.col() == i) continue;
-        const Eigen::Matrix3d rj = d.scale[j] * d.q[j].toRotationMatrix();
-        const Vec3 edge = row(d.rest.data(), e.col()) - row(d.rest.data(), i);
-        b += e.value() * (0.5 * (ri + rj) * edge - edge);
+        const Eigen::Matrix3d& rj = d.rot[static_cast<std::size_t>(e.col())];
+        b += e.value() * (0.5 * (ri + rj) * (row(d.rest.data(), e.col()) - row(d.rest.data(), i)));
       }
       d.b1.row(i) = b.transpose();
     }

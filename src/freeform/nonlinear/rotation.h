@@ -14,9 +14,11 @@ Vec3 rotation_vector(const Eigen::Quaterniond& q);
 Eigen::Quaterniond rotation_from_vector(const Vec3& w);
 
 // The rotation R maximizing trace(R^T a) (the polar factor of a; for a = sum w e' e^T the
-// best fit of rest edges e to deformed edges e'), refined in place from the warm start q
-// (Mueller et al. 2016, "A robust method to extract the rotational part of deformations"):
-// always a unit quaternion, no SVD, a few iterations when q is close.
-void extract_rotation(const Eigen::Matrix3d& a, Eigen::Quaterniond& q, int max_iterations = 20);
+// best fit of rest edges e to deformed edges e'), refined in place from the warm start q:
+// Newton steps on the rotation near the maximum (2-3 from a warm start, also where a is of
+// rank 2: a flat patch), Mueller et al. 2016's gradient steps far from it ("A robust method
+// to extract the rotational part of deformations"). Always a unit quaternion, no SVD.
+// Returns the iterations taken (max_iterations: not converged to 1e-13 rad).
+int extract_rotation(const Eigen::Matrix3d& a, Eigen::Quaterniond& q, int max_iterations = 20);
 
 }  // namespace freeform
