@@ -173,16 +173,33 @@ TEST_P(SurveyPlane, NonlinearSBendKeepsTheBumpsWithoutFolds) {
   flat.edit.deformation = Deformation::Nonlinear;
   const Mesh base = deform(flat.mesh, flat.edit);
   write_for_rendering(s, out, "survey-nonlinear-k" + std::to_string(k));
-  // k = 2: the nonlinear base bends tighter next to the fixed strip than linear BCM does (it
-  // keeps lengths, like an elastic strip), tighter than the first row of bumps is tall: 28
-  // folded edges there, measured; a known gap (docs/nonlinear.md), bounded here.
-  EXPECT_LE(folded_edges(s.mesh, out), k == 2 ? 40 : 0) << "k = " << k;
+  // Until 2026-11-26 k = 2 folded 28 edges here: a 15-degree kink at the fixed strip (edges
+  // to the constrained ring turned with the mean of both ends' rotations) and a rotation fit
+  // over too few rings for this resolution crumpled the first bumps (docs/nonlinear.md).
+  EXPECT_EQ(folded_edges(s.mesh, out), 0) << "k = " << k;
   EXPECT_EQ(solver.problems(out.positions()).non_finite, 0);
   std::vector<double> errors;
   for (Vertex a : s.apexes) errors.push_back(std::abs(height(s.mesh, base, out, a) - kHeight) / kHeight);
   std::sort(errors.begin(), errors.end());
   EXPECT_LE(errors[errors.size() / 2], 0.02) << "median apex height error, k = " << k;
   EXPECT_LE(errors.back(), 0.05) << "max apex height error, k = " << k;
+}
+
+// The bare plane's nonlinear S-bend is as smooth as linear BCM's: no crease anywhere, also
+// not where it leaves the fixed strip (there the boundary is C^(k-1), as in linear BCM).
+TEST_P(SurveyPlane, NonlinearSBendHasNoKinkAtTheFixedStrip) {
+  const int k = GetParam();
+  const Survey linear = survey(k, false, false);
+  Survey nonlinear = linear;
+  nonlinear.edit.deformation = Deformation::Nonlinear;
+  const TriangleSoup soup = linear.mesh.to_soup();
+  const std::vector<double> a = dihedral_angles(soup, deform(linear.mesh, linear.edit).positions().raw());
+  const std::vector<double> b = dihedral_angles(soup, deform(nonlinear.mesh, nonlinear.edit).positions().raw());
+  const double max_linear = *std::max_element(a.begin(), a.end());
+  const double max_nonlinear = *std::max_element(b.begin(), b.end());
+  std::printf("k=%d largest dihedral angle: linear %.2f, nonlinear %.2f degrees\n", k, max_linear, max_nonlinear);
+  // Measured 2.01 / 1.65 (k = 2), 2.12 / 1.86 (k = 3); the kink was 15 degrees in one edge.
+  EXPECT_LE(max_nonlinear, 1.3 * max_linear) << "k = " << k;
 }
 
 // A bend tighter than the bumps are tall (the bottom of the S has a radius of curvature below

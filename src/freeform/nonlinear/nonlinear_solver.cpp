@@ -18,6 +18,12 @@ constexpr int kParallelRows = 2048;
 // Positive part of the cotangent weights, plus this fraction of their mean so that no edge of a
 // needle triangle drops out of the rotation fit entirely.
 constexpr double kWeightFloor = 1e-3;
+// Automatic rotation smoothing: rings grow with the support's width in edges (~sqrt of its
+// vertex count), so the smoothed patch covers a similar part of it at any resolution.
+// Measured (docs/nonlinear.md): 8-10 rings suit the bar and capsule (~1,700 free); the S-bent
+// plane (32k free) folds its first bumps below ~40; the cap bounds the cost per iteration.
+constexpr double kSmoothingPerSqrtFree = 0.25;
+constexpr int kMinSmoothingRings = 8, kMaxSmoothingRings = 64;
 
 Eigen::Map<const Vec3> row(const double* p, Eigen::Index i) { return Eigen::Map<const Vec3>(p + 3 * i); }
 
@@ -45,6 +51,7 @@ struct NonlinearSolver::Data {
   std::vector<int> nbr_offset, nbr;  // CSR: 1-ring of each free vertex (local indices)
   std::vector<double> nbr_w;         // positive cotangent weights for the rotation fit
   double extent = 1.0;
+  int smoothing_rings = 0;           // NonlinearOptions::rotation_smoothing, resolved
   // Per local vertex: rotation times scale (free: fitted, warm-started; constrained: the
   // handle's, or the identity), and the free vertices' guidance rotation of the last start.
   std::vector<Eigen::Quaterniond> q, guide;
@@ -83,6 +90,10 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
     d.owner[static_cast<std::size_t>(j)] = h >= 0 ? regions.movable_index(h) : -1;
   }
   d.x = d.rest;
+  d.smoothing_rings = options.rotation_smoothing >= 0
+                          ? options.rotation_smoothing
+                          : std::clamp(static_cast<int>(std::lround(kSmoothingPerSqrtFree * std::sqrt(double(p)))),
+                                       kMinSmoothingRings, kMaxSmoothingRings);
   if (p + c > 0) d.extent = std::max((d.rest.colwise().maxCoeff() - d.rest.colwise().minCoeff()).norm(), 1e-300);
 
   // Guidance weights: a translation t moves free vertex i by (sum of its basis row over the
@@ -196,7 +207,12 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
       Vec3 b = Vec3::Zero();
       for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator e(lap, i); e; ++e) {
         if (e.col() == i) continue;
-        const Eigen::Matrix3d& rj = d.rot[static_cast<std::size_t>(e.col())];
+        // An edge between a free and a constrained vertex turns with the row's own vertex,
+        // not with the mean: the constrained (k-1)-ring keeps its constraint's rotation as in
+        // linear BCM and the boundary stays C^(k-1). (The mean put a 15-degree kink at the
+        // fixed strip of the S-bent plane, k = 2, and folded its first bumps.)
+        const bool own = i >= p || e.col() >= p;
+        const Eigen::Matrix3d& rj = d.rot[static_cast<std::size_t>(own ? i : e.col())];
         b += e.value() * (0.5 * (ri + rj) * (row(d.rest.data(), e.col()) - row(d.rest.data(), i)));
       }
       d.b1.row(i) = b.transpose();
@@ -232,7 +248,7 @@ void NonlinearSolver::fit_rotations() {
   }
   // Summing the neighbours' covariances ring by ring fits R_i to a wider patch: a smoother
   // rotation field (like SR-ARAP's smoothness term), fewer iterations, less necking.
-  for (int pass = 0; pass < options_.rotation_smoothing; ++pass) {
+  for (int pass = 0; pass < d.smoothing_rings; ++pass) {
 #pragma omp parallel for schedule(static) if (p > kParallelRows)
     for (int i = 0; i < p; ++i) {
       const auto ui = static_cast<std::size_t>(i);

@@ -31,10 +31,11 @@ struct NonlinearOptions {
   // Converged when no vertex moved more than this fraction of the support's extent (bounding
   // box diagonal) in the last iteration.
   double tolerance = 1e-4;
-  // Rings of neighbours whose edges the rotation fit of a vertex also uses (0: the 1-ring only).
-  // Measured on the survey's bar and cylinder (docs/nonlinear.md): 8 keeps the volume within
-  // 15 % where 0 loses up to 45 %, and converges in 3-10x fewer iterations.
-  int rotation_smoothing = 8;
+  // Rings of neighbours whose edges the rotation fit of a vertex also uses (0: the 1-ring only;
+  // -1: automatic, 0.25 sqrt(free vertices) within [8, 64]). Measured (docs/nonlinear.md): 8
+  // keeps the bar's and capsule's volume within 15 % where 0 loses up to 45 %, and converges
+  // in 3-10x fewer iterations; the S-bent plane (32k free) needs ~40 to keep its bumps unfolded.
+  int rotation_smoothing = -1;
 };
 
 // The state of the last solve: how far it got and how long it took.
