@@ -305,6 +305,17 @@ TEST(EditFile, DeformationModelKey) {
   EXPECT_EQ(e.deformation, Deformation::Nonlinear);
   EXPECT_EQ(e.nonlinear.max_iterations, 7);
   EXPECT_EQ(e.nonlinear.tolerance, 0.001);
+  EXPECT_TRUE(e.nonlinear.preserve_volume);  // the default
+  EXPECT_FALSE(parse(with(R"("nonlinear": {"preserve_volume": false})")).nonlinear.preserve_volume);
+  EXPECT_THAT(error(with(R"("nonlinear": {"preserve_volume": 1})")), HasSubstr(R"("nonlinear.preserve_volume" must be)"));
+  Edit off = e;
+  off.nonlinear.preserve_volume = false;
+  test::ScratchDir dir;
+  write_edit_file((dir / "nl.json").string(), off);
+  const Edit back = read_edit_file((dir / "nl.json").string(), grid());
+  EXPECT_EQ(back.deformation, Deformation::Nonlinear);
+  EXPECT_EQ(back.nonlinear.max_iterations, 7);
+  EXPECT_FALSE(back.nonlinear.preserve_volume);
   EXPECT_THAT(error(with(R"("nonlinear": {"max_iterations": 0})")),
               HasSubstr(R"("nonlinear.max_iterations" must be in [1, 100000], got 0)"));
   EXPECT_THAT(error(with(R"("nonlinear": {"tolerance": 2})")), HasSubstr(R"("nonlinear.tolerance" must be in (0, 1), got 2)"));

@@ -83,7 +83,7 @@ class Parser : JsonReader {
 
   void nonlinear(const Json& j, NonlinearOptions& o) const {
     object(j, "nonlinear");
-    keys(j, "nonlinear", {"max_iterations", "tolerance"});
+    keys(j, "nonlinear", {"max_iterations", "tolerance", "preserve_volume"});
     if (j.contains("max_iterations")) {
       const long long n = integer(j["max_iterations"], "nonlinear.max_iterations");
       if (n < 1 || n > 100000) fail("\"nonlinear.max_iterations\" must be in [1, 100000], got " + std::to_string(n));
@@ -94,6 +94,7 @@ class Parser : JsonReader {
       if (!(t > 0.0 && t < 1.0)) fail("\"nonlinear.tolerance\" must be in (0, 1), got " + num(t));
       o.tolerance = t;
     }
+    if (j.contains("preserve_volume")) o.preserve_volume = boolean(j["preserve_volume"], "nonlinear.preserve_volume");
   }
 
   void smoothness(const Json& j, BcmSettings& settings) const {
@@ -321,7 +322,9 @@ Json edit_to_json(const Edit& edit) {
   j["deformation"] = deformation_name(edit.deformation);
   if (edit.allow_unanchored) j["allow_unanchored"] = true;
   if (edit.deformation == Deformation::Nonlinear)
-    j["nonlinear"] = Json{{"max_iterations", edit.nonlinear.max_iterations}, {"tolerance", edit.nonlinear.tolerance}};
+    j["nonlinear"] = Json{{"max_iterations", edit.nonlinear.max_iterations},
+                          {"tolerance", edit.nonlinear.tolerance},
+                          {"preserve_volume", edit.nonlinear.preserve_volume}};
   return j;
 }
 

@@ -36,6 +36,9 @@ struct NonlinearOptions {
   // keeps the bar's and capsule's volume within 15 % where 0 loses up to 45 %, and converges
   // in 3-10x fewer iterations; the S-bent plane (32k free) needs ~40 to keep its bumps unfolded.
   int rotation_smoothing = -1;
+  // Keep the enclosed volume of every closed component with free vertices (times the mean
+  // cube of the handles' scale field); open meshes are not affected.
+  bool preserve_volume = true;
 };
 
 // The state of the last solve: how far it got and how long it took.
@@ -86,6 +89,7 @@ class NonlinearSolver {
   int n_movable_ = 0;
 
   void fit_rotations();
+  void keep_volumes();
 };
 
 }  // namespace freeform

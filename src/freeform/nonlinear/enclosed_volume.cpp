@@ -1,0 +1,123 @@
+#include "freeform/nonlinear/enclosed_volume.h"
+
+#include "freeform/mesh/traversal.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace freeform {
+
+EnclosedVolumes::EnclosedVolumes(const Mesh& mesh, const VertexData<Vec3>& rest, const VertexData<int>& local,
+                                 int n_free, const Regions& regions)
+    : n_free_(n_free) {
+  const Components comp = connected_components(mesh);
+  std::vector<int> part_of(static_cast<std::size_t>(comp.count), -1);
+  std::vector<char> closed(static_cast<std::size_t>(comp.count), 1), has_free(static_cast<std::size_t>(comp.count), 0);
+  for (Halfedge h : mesh.halfedges())
+    if (mesh.is_boundary(h)) closed[static_cast<std::size_t>(comp.vertex_component[mesh.to_vertex(h)])] = 0;
+  for (Vertex v : mesh.vertices())
+    if (local[v] >= 0 && local[v] < n_free) has_free[static_cast<std::size_t>(comp.vertex_component[v])] = 1;
+  for (int c = 0; c < comp.count; ++c)
+    if (closed[static_cast<std::size_t>(c)] && has_free[static_cast<std::size_t>(c)]) {
+      part_of[static_cast<std::size_t>(c)] = count();
+      parts_.emplace_back();
+    }
+  if (parts_.empty()) return;
+  VertexData<int> extra_index(static_cast<std::size_t>(mesh.n_vertices()), -1);
+  for (Vertex v : mesh.vertices()) {
+    const int p = comp.vertex_component[v] >= 0 ? part_of[static_cast<std::size_t>(comp.vertex_component[v])] : -1;
+    if (p < 0 || mesh.is_isolated(v)) continue;
+    Part& part = parts_[static_cast<std::size_t>(p)];
+    if (local[v] >= 0) {
+      part.local_rows.push_back(local[v]);
+    } else {
+      extra_index[v] = static_cast<int>(part.extra.size());
+      part.extra.push_back(v);
+      const int h = regions.handle_of(v);
+      part.extra_owner.push_back(h >= 0 ? regions.movable_index(h) : -1);
+      part.extra_rest.push_back(rest[v]);
+    }
+    part.centre += rest[v];
+  }
+  for (Face f : mesh.faces()) {
+    const int p = part_of[static_cast<std::size_t>(comp.face_component[f])];
+    if (p < 0) continue;
+    std::array<int, 3> corners{};
+    const std::array<Vertex, 3> vs = mesh.vertices(f);
+    for (int k = 0; k < 3; ++k) corners[static_cast<std::size_t>(k)] = local[vs[k]] >= 0 ? local[vs[k]] : -1 - extra_index[vs[k]];
+    parts_[static_cast<std::size_t>(p)].faces.push_back(corners);
+  }
+  for (Part& part : parts_) {
+    part.centre /= static_cast<double>(part.local_rows.size() + part.extra.size());
+    part.extra_now = part.extra_rest;
+  }
+  // The rest volume from the rest rows, by the same code as every frame's (exact at identity).
+  Eigen::Index rows = 0;
+  for (Vertex v : mesh.vertices()) rows = std::max<Eigen::Index>(rows, local[v] + 1);
+  RowMatrixX3d x = RowMatrixX3d::Zero(rows, 3);
+  for (Vertex v : mesh.vertices())
+    if (local[v] >= 0) x.row(local[v]) = rest[v].transpose();
+  for (int c = 0; c < count(); ++c) {
+    Part& part = parts_[static_cast<std::size_t>(c)];
+    part.rest_volume = part.target = volume(c, x);
+  }
+}
+
+Vec3 EnclosedVolumes::corner(const Part& part, int index, const RowMatrixX3d& x) const {
+  return (index >= 0 ? Vec3(x.row(index).transpose()) : part.extra_now[static_cast<std::size_t>(-1 - index)]) - part.centre;
+}
+
+void EnclosedVolumes::start(std::span<const Eigen::Affine3d> transforms, std::span<const double> scale,
+                            std::span<const double> handle_scale) {
+  for (Part& part : parts_) {
+    double cubes = 0.0;
+    for (std::size_t i = 0; i < part.extra.size(); ++i) {
+      const int m = part.extra_owner[i];
+      part.extra_now[i] = m >= 0 ? Vec3(transforms[static_cast<std::size_t>(m)] * part.extra_rest[i]) : part.extra_rest[i];
+      const double s = m >= 0 ? handle_scale[static_cast<std::size_t>(m)] : 1.0;
+      cubes += s * s * s;
+    }
+    for (int r : part.local_rows) cubes += std::pow(scale[static_cast<std::size_t>(r)], 3);
+    part.target = part.rest_volume * cubes / static_cast<double>(part.extra.size() + part.local_rows.size());
+  }
+}
+
+double EnclosedVolumes::volume(int c, const RowMatrixX3d& x) const {
+  const Part& part = parts_[static_cast<std::size_t>(c)];
+  double v = 0.0;
+  for (const auto& f : part.faces) v += corner(part, f[0], x).dot(corner(part, f[1], x).cross(corner(part, f[2], x)));
+  return v / 6.0;
+}
+
+void EnclosedVolumes::gradient(int c, const RowMatrixX3d& x, Eigen::Ref<Eigen::MatrixXd> g) const {
+  const Part& part = parts_[static_cast<std::size_t>(c)];
+  g.setZero();
+  for (const auto& f : part.faces) {
+    const Vec3 a = corner(part, f[0], x), b = corner(part, f[1], x), d = corner(part, f[2], x);
+    const Vec3 grad[3] = {b.cross(d), d.cross(a), a.cross(b)};
+    for (int k = 0; k < 3; ++k)
+      if (f[static_cast<std::size_t>(k)] >= 0 && f[static_cast<std::size_t>(k)] < n_free_)
+        g.row(f[static_cast<std::size_t>(k)]) += grad[k].transpose() / 6.0;
+  }
+}
+
+double EnclosedVolumes::multiplier(int c, const RowMatrixX3d& x, const Eigen::MatrixXd& u) const {
+  const Part& part = parts_[static_cast<std::size_t>(c)];
+  const double tol = 1e-12 * std::abs(part.target);
+  RowMatrixX3d y = x;
+  Eigen::MatrixXd g(n_free_, 3);
+  double lambda = 0.0;
+  for (int it = 0; it < 8; ++it) {
+    y.topRows(n_free_) = x.topRows(n_free_) + lambda * u;
+    const double f = volume(c, y) - part.target;
+    if (!(std::abs(f) > tol)) return lambda;  // also a non-finite f: no correction
+    gradient(c, y, g);
+    const double slope = g.cwiseProduct(u).sum();
+    if (!(std::abs(slope) > 0.0)) return 0.0;
+    lambda -= f / slope;
+    if (!std::isfinite(lambda)) return 0.0;
+  }
+  return 0.0;  // no convergence: no correction rather than a wild one
+}
+
+}  // namespace freeform

@@ -1,0 +1,62 @@
+// The enclosed volume of each closed component the nonlinear model deforms (docs/nonlinear.md):
+// rotation-aware models keep edge lengths, so a twisted bar necks (ARAP keeps 0.72 of its
+// volume); the model adds lambda * u, u the smooth response of its own operator to the volume
+// gradient, with lambda chosen so that the volume is the rest volume times the mean cube of
+// the scale field (1 unless a handle is scaled).
+#pragma once
+
+#include "freeform/mesh/mesh.h"
+#include "freeform/regions/regions.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <array>
+#include <span>
+#include <vector>
+
+namespace freeform {
+
+class EnclosedVolumes {
+ public:
+  using RowMatrixX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+  // local[v]: v's row among the model's vertices (free rows first, n_free of them), or -1.
+  // Keeps the closed components (no boundary edge) with a free vertex.
+  EnclosedVolumes(const Mesh& mesh, const VertexData<Vec3>& rest, const VertexData<int>& local, int n_free,
+                  const Regions& regions);
+
+  int count() const { return static_cast<int>(parts_.size()); }
+
+  // For one frame: places the vertices the model does not hold (handle interiors, fixed
+  // parts) and sets the targets. scale: per local row (free: the guidance's; the rest: their
+  // handle's); handle_scale: per movable handle.
+  void start(std::span<const Eigen::Affine3d> transforms, std::span<const double> scale,
+             std::span<const double> handle_scale);
+
+  // Gradient of component c's volume at x (local rows) in the free rows of g; other rows 0.
+  void gradient(int c, const RowMatrixX3d& x, Eigen::Ref<Eigen::MatrixXd> g) const;
+  // Volume of component c at x.
+  double volume(int c, const RowMatrixX3d& x) const;
+  // The lambda for which component c's volume at x + lambda u (u: free rows) is the target
+  // (Newton on the cubic); 0 if it is already, or if no such lambda is found nearby.
+  double multiplier(int c, const RowMatrixX3d& x, const Eigen::MatrixXd& u) const;
+
+ private:
+  struct Part {
+    // Corners: >= 0 a local row, < 0 the extra vertex -1 - i.
+    std::vector<std::array<int, 3>> faces;
+    std::vector<Vertex> extra;        // component vertices without a local row
+    std::vector<int> extra_owner;     // their movable handle, or -1
+    std::vector<Vec3> extra_rest, extra_now;
+    std::vector<int> local_rows;      // the component's local rows
+    Vec3 centre = Vec3::Zero();       // of the rest, for accuracy far from the origin
+    double rest_volume = 0, target = 0;
+  };
+  std::vector<Part> parts_;
+  int n_free_ = 0;
+
+  Vec3 corner(const Part& part, int index, const RowMatrixX3d& x) const;
+};
+
+}  // namespace freeform

@@ -1,0 +1,121 @@
+// EnclosedVolumes against closed forms: the volume of a sphere and a box-like cylinder, the
+// gradient against finite differences, the multiplier against the target it is asked for.
+#include "freeform/mesh/generators.h"
+#include "freeform/nonlinear/enclosed_volume.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace freeform {
+namespace {
+
+using Rows = EnclosedVolumes::RowMatrixX3d;
+
+// Free: the upper half (z > 0); a movable handle: the cap z > 0.8 r; the rest fixed.
+struct HalfSphere {
+  Mesh mesh;
+  Regions regions;
+  VertexData<int> local;
+  int n_free = 0;
+  Rows x;
+};
+
+HalfSphere sphere(double radius, const Vec3& centre, int subdivisions = 3) {
+  TriangleSoup soup = make_icosphere(subdivisions, radius);
+  for (Vec3& p : soup.positions) p += centre;
+  Mesh mesh = Mesh::from_soup(soup);
+  std::vector<Vertex> support;
+  HandleRegion handle;
+  for (Vertex v : mesh.vertices()) {
+    const double z = mesh.position(v).z() - centre.z();
+    if (z > 0.0) support.push_back(v);
+    if (z > 0.8 * radius) handle.vertices.push_back(v);
+  }
+  Regions regions(mesh, support, {handle});
+  VertexData<int> local(static_cast<std::size_t>(mesh.n_vertices()), -1);
+  int n = 0;
+  for (Vertex v : mesh.vertices())
+    if (regions.role(v) == Role::Free) local[v] = n++;
+  const int n_free = n;
+  for (Vertex v : handle.vertices) local[v] = n++;  // the handle rows; the fixed half has none
+  Rows x(n, 3);
+  for (Vertex v : mesh.vertices())
+    if (local[v] >= 0) x.row(local[v]) = mesh.position(v).transpose();
+  return {std::move(mesh), std::move(regions), std::move(local), n_free, std::move(x)};
+}
+
+TEST(EnclosedVolumes, IcosahedronVolumeAlsoFarFromTheOrigin) {
+  // Regular icosahedron of circumradius r: edge a = 4 r / sqrt(10 + 2 sqrt 5), V = 5/12 (3 + sqrt 5) a^3.
+  const double r = 2.0, a = 4.0 * r / std::sqrt(10.0 + 2.0 * std::sqrt(5.0));
+  const double exact = 5.0 / 12.0 * (3.0 + std::sqrt(5.0)) * a * a * a;
+  for (const Vec3& c : {Vec3(0, 0, 0), Vec3(1e6, -2e6, 3e6)}) {
+    const HalfSphere s = sphere(r, c, 0);
+    const EnclosedVolumes v(s.mesh, s.mesh.positions(), s.local, s.n_free, s.regions);
+    ASSERT_EQ(v.count(), 1);
+    // Far away the input itself is rounded to ~1e-10 of r (3.7e6 / 2^52); the centring keeps
+    // the volume from losing more (uncentred, terms of 1e18 would cancel to noise).
+    EXPECT_NEAR(v.volume(0, s.x) / exact, 1.0, c.norm() > 0 ? 1e-9 : 1e-13) << c.transpose();
+  }
+}
+
+TEST(EnclosedVolumes, GradientMatchesFiniteDifferences) {
+  const HalfSphere s = sphere(1.0, Vec3(0.3, 0.1, -0.2));
+  const EnclosedVolumes v(s.mesh, s.mesh.positions(), s.local, s.n_free, s.regions);
+  Rows x = s.x;
+  x.topRows(s.n_free).array() += 0.05 * Eigen::ArrayXXd::Random(s.n_free, 3);
+  Eigen::MatrixXd g(s.n_free, 3);
+  v.gradient(0, x, g);
+  for (int i : {0, s.n_free / 2, s.n_free - 1})
+    for (int k = 0; k < 3; ++k) {
+      const double h = 1e-6;
+      Rows a = x, b = x;
+      a(i, k) += h;
+      b(i, k) -= h;
+      EXPECT_NEAR((v.volume(0, a) - v.volume(0, b)) / (2 * h), g(i, k), 1e-8);
+    }
+}
+
+TEST(EnclosedVolumes, MultiplierReachesTheTargetOfTheScaleField) {
+  const HalfSphere s = sphere(1.0, Vec3::Zero());
+  EnclosedVolumes v(s.mesh, s.mesh.positions(), s.local, s.n_free, s.regions);
+  const double rest = v.volume(0, s.x);
+  // Shrink the free rows: the multiplier along the outward normals restores the rest volume.
+  Rows x = s.x;
+  x.topRows(s.n_free) *= 0.9;
+  Eigen::MatrixXd u = x.topRows(s.n_free);  // radial
+  const double lambda = v.multiplier(0, x, u);
+  Rows y = x;
+  y.topRows(s.n_free) += lambda * u;
+  EXPECT_NEAR(v.volume(0, y) / rest, 1.0, 1e-10);
+  EXPECT_EQ(v.multiplier(0, s.x, u), 0.0);  // at rest nothing to do
+  // A handle and free part scaled by 1.5 (the fixed half by 1): the target is the rest volume
+  // times the vertices' mean cube of the scale.
+  const Eigen::Affine3d t(Eigen::Scaling(1.5));
+  std::vector<double> scale(static_cast<std::size_t>(s.x.rows()), 1.5);
+  const double handle_scale[] = {1.5};
+  v.start(std::span(&t, 1), scale, handle_scale);
+  int fixed = 0;
+  for (Vertex w : s.mesh.vertices()) fixed += s.local[w] < 0;
+  const double mean_cube = (fixed + 3.375 * static_cast<double>(s.x.rows())) / static_cast<double>(fixed + s.x.rows());
+  const double l2 = v.multiplier(0, s.x, u);
+  y = s.x;
+  y.topRows(s.n_free) += l2 * u;
+  EXPECT_NEAR(v.volume(0, y) / rest, mean_cube, 1e-9);
+}
+
+TEST(EnclosedVolumes, OpenMeshesHaveNone) {
+  const Mesh plane = Mesh::from_soup(make_plane(6, 6));
+  std::vector<Vertex> support;
+  for (Vertex v : plane.vertices())
+    if (plane.position(v).x() > 0.3) support.push_back(v);
+  const Regions regions(plane, support, {});
+  VertexData<int> local(static_cast<std::size_t>(plane.n_vertices()), -1);
+  int n = 0;
+  for (Vertex v : support) local[v] = n++;
+  EXPECT_EQ(EnclosedVolumes(plane, plane.positions(), local, n, regions).count(), 0);
+}
+
+}  // namespace
+}  // namespace freeform
