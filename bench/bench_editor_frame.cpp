@@ -124,7 +124,24 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
     frame.push_back(update_ms + normals_ms + upload_ms);
     full_frame.push_back(update_ms + full_normals.back() + full_upload.back());
   }
+  // The nonlinear model when the handle rests: the frames that iterate until converged.
+  nlohmann::json settle;
+  if (nonlinear) {
+    const auto t = Clock::now();
+    std::vector<double> rest_frames;
+    while (!doc.last_timings().converged && rest_frames.size() < 1000) {
+      const auto tf = Clock::now();
+      if (!doc.update_display().evaluated) break;  // stopped at the iteration cap
+      rest_frames.push_back(ms_since(tf));
+    }
+    settle = {{"frames", rest_frames.size()},
+              {"iterations", doc.last_timings().iterations},
+              {"converged", doc.last_timings().converged},
+              {"median_frame_ms", rest_frames.empty() ? 0.0 : median(rest_frames)},
+              {"total_ms", ms_since(t)}};
+  }
   return {{"mesh", name + " (1 midpoint subdivision)"},
+          {"nonlinear_settle", settle},
           {"vertices", doc.rest_mesh().n_vertices()},
           {"triangles", doc.rest_mesh().n_faces()},
           {"support", doc.state().n_support()},

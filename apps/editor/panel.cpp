@@ -261,8 +261,11 @@ void App::panel_parameters() {
       if (doc_.solver()->solver().nonlinear_state()) {
         const FrameTimings& f = doc_.last_timings();
         ImGui::SameLine();
-        ImGui::TextDisabled("| nonlinear: %d iterations, residual %.1e%s", f.iterations, f.residual,
-                            f.converged ? "" : " (refining)");
+        if (f.iterations == 0 && !f.converged)
+          ImGui::TextDisabled("| nonlinear: predicted (iterates when the handle rests)");
+        else
+          ImGui::TextDisabled("| nonlinear: %d iterations, residual %.1e%s", f.iterations, f.residual,
+                              f.converged ? "" : " (refining)");
       }
       // Folds and flattened detail, so a problem shows without rendering a close-up; not during
       // a drag (O(support) per check), the last count stays.

@@ -72,6 +72,9 @@ class PreparedSolver {
   // positions). One transform per movable index. Throws InvalidInput on a wrong count.
   // The nonlinear model iterates for kNonlinearFrameBudgetMs, from the last frame's solution;
   // `refine`: the transforms did not change, continue that solve (up to its iteration cap).
+  // New transforms while one iteration costs more than that budget (large supports): the
+  // frame shows the last iterate moved by linear BCM's change (EditSolver::preview) and the
+  // iterations run once the transforms rest, so a drag stays interactive.
   FrameTimings evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
                         bool refine = false) const;
 
@@ -80,6 +83,7 @@ class PreparedSolver {
   std::vector<int> movable_ids_;
   std::uint64_t tag_ = 0;
   std::unique_ptr<EditSolver> solver_;
+  mutable double iteration_ms_ = 0;  // the nonlinear model's measured cost per iteration
 };
 
 enum class JobState { Idle, Running, Finished, Failed, Cancelled };

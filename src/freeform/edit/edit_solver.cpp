@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 namespace freeform {
 namespace {
@@ -127,12 +128,28 @@ NonlinearState EditSolver::evaluate_within(std::span<const Eigen::Affine3d> tran
     evaluate(transforms, positions);
     return {0, 0.0, true, timings_.evaluate_ms};
   }
-  model->start(transforms, warm_);
-  warm_ = true;
+  start_warm(*model, transforms);
   const NonlinearState state = model->iterate(model->options().max_iterations, budget_ms);
   timings_.evaluate_ms = state.ms;
   write_nonlinear(transforms, positions);
   return state;
+}
+
+void EditSolver::start_warm(NonlinearSolver& model, std::span<const Eigen::Affine3d> transforms) const {
+  linear_.resize(model.n_free(), 3);
+  bcm().evaluate(transforms, linear_);
+  model.start(transforms, warm_, &linear_);
+  warm_ = true;
+}
+
+NonlinearState EditSolver::preview(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
+  NonlinearSolver* model = nonlinear();
+  if (!model) return evaluate_within(transforms, std::numeric_limits<double>::infinity(), positions);
+  const auto t0 = std::chrono::steady_clock::now();
+  start_warm(*model, transforms);
+  timings_.evaluate_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  write_nonlinear(transforms, positions);
+  return model->state();
 }
 
 NonlinearState EditSolver::refine(std::span<const Eigen::Affine3d> transforms, double budget_ms,

@@ -82,6 +82,10 @@ class EditSolver {
                                  VertexData<Vec3>& positions) const;
   NonlinearState refine(std::span<const Eigen::Affine3d> transforms, double budget_ms,
                         VertexData<Vec3>& positions) const;
+  // A drag frame without an iteration (the editor, when one iteration costs more than a
+  // frame): the last iterate moved by the change of linear BCM (first order), written like
+  // evaluate(); refine() continues from it. The linear model: evaluate().
+  NonlinearState preview(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
   // Non-finite positions, folded edges and detail problems of `positions` as written by the
   // last evaluate(). O(support).
   EditProblems problems(const VertexData<Vec3>& positions) const;
@@ -99,10 +103,12 @@ class EditSolver {
   std::unique_ptr<MultiresSolver> multires_;   // either model with detail (owns its solvers)
   std::unique_ptr<NonlinearSolver> nonlinear_; // plain nonlinear model (over bcm_'s system)
   mutable bool warm_ = false;                  // a nonlinear iterate exists to start from
+  mutable BcmSolver::RowMatrixX3d linear_;     // linear BCM's free rows (nonlinear warm starts)
   EditStats stats_;
   mutable EditTimings timings_;
 
   NonlinearSolver* nonlinear() const;
+  void start_warm(NonlinearSolver& model, std::span<const Eigen::Affine3d> transforms) const;
   void write_nonlinear(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
 };
 

@@ -63,6 +63,8 @@ struct NonlinearSolver::Data {
   Eigen::MatrixXd ac;                // P x 3: A_pc (x_c - x_c rest), fixed during a solve
   Eigen::MatrixXd b1;                // n_inner x 3: rotated minus rest Laplacian coordinates
   RowMatrixX3d last;                 // P x 3: free rows before the last global step
+  RowMatrixX3d linear;               // P x 3: linear BCM at the last start's transforms
+  bool has_linear = false;
   std::optional<EnclosedVolumes> volumes;  // closed components (with preserve_volume)
   Eigen::MatrixXd grad;              // n_inner x 3: volume gradient (workspace)
 };
@@ -146,7 +148,7 @@ Eigen::Ref<const NonlinearSolver::RowMatrixX3d> NonlinearSolver::free_positions(
   return d_->x.topRows(n_free_);
 }
 
-void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool warm) {
+void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool warm, const RowMatrixX3d* linear) {
   Data& d = *d_;
   if (static_cast<int>(transforms.size()) != n_movable_)
     throw InvalidInput("evaluate: got " + std::to_string(transforms.size()) + " transforms for " +
@@ -191,6 +193,10 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
     d.scale[ui] = std::exp(ls);
   }
   if (!warm) d.x.topRows(p) = d.rest.topRows(p);
+  if (linear && linear->rows() != p) throw InternalError("NonlinearSolver::start: linear rows do not match");
+  if (warm && linear && d.has_linear) d.x.topRows(p) += *linear - d.linear;
+  d.has_linear = linear != nullptr;
+  if (linear) d.linear = *linear;
   if (d.volumes) d.volumes->start(transforms, d.scale, handle_s);
   state_ = {};
 }
@@ -233,7 +239,9 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
     if (d.volumes) keep_volumes();
     state_.step = p > 0 ? (d.x.topRows(p) - d.last).rowwise().norm().maxCoeff() / d.extent : 0.0;
     ++state_.iterations;
-    state_.converged = state_.step <= options_.tolerance;
+    // Not on the first step after a start: its move is measured from the warm start's
+    // prediction, which can be close to the new iterate while both are far from the solution.
+    state_.converged = state_.step <= options_.tolerance && state_.iterations > 1;
     if (!state_.converged) fit_rotations();  // before any break: the next call starts with a fresh fit
     state_.ms = ms0 + std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     if (state_.converged || state_.ms - ms0 >= budget_ms) break;

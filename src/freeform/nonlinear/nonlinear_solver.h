@@ -70,7 +70,11 @@ class NonlinearSolver {
   // rotations come from the guidance field. Warm: the last solve's rotations, carried along by
   // the change of the guidance field (a drag: few iterations per frame). Throws InvalidInput
   // on a wrong count or a non-finite transform.
-  void start(std::span<const Eigen::Affine3d> transforms, bool warm);
+  // `linear`: optionally linear BCM's free rows for these transforms (BcmSolver::evaluate);
+  // a warm start then also moves the current iterate by the change of linear BCM since the
+  // last start, a first-order prediction that the editor shows while a drag is too fast to
+  // iterate (the iterations do not depend on it).
+  void start(std::span<const Eigen::Affine3d> transforms, bool warm, const RowMatrixX3d* linear = nullptr);
   // Runs global/local iterations until converged, `max_iterations` more, or `budget_ms` spent.
   const NonlinearState& iterate(int max_iterations, double budget_ms = std::numeric_limits<double>::infinity());
   const NonlinearState& state() const { return state_; }
