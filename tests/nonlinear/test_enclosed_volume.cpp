@@ -56,7 +56,8 @@ TEST(EnclosedVolumes, IcosahedronVolumeAlsoFarFromTheOrigin) {
     ASSERT_EQ(v.count(), 1);
     // Far away the input itself is rounded to ~1e-10 of r (3.7e6 / 2^52); the centring keeps
     // the volume from losing more (uncentred, terms of 1e18 would cancel to noise).
-    EXPECT_NEAR(v.volume(0, s.x) / exact, 1.0, c.norm() > 0 ? 1e-9 : 1e-13) << c.transpose();
+    const double volume = v.volume(0, s.x) * std::pow(v.scale(0), 3);
+    EXPECT_NEAR(volume / exact, 1.0, c.norm() > 0 ? 1e-9 : 1e-13) << c.transpose();
   }
 }
 
@@ -73,7 +74,8 @@ TEST(EnclosedVolumes, GradientMatchesFiniteDifferences) {
       Rows a = x, b = x;
       a(i, k) += h;
       b(i, k) -= h;
-      EXPECT_NEAR((v.volume(0, a) - v.volume(0, b)) / (2 * h), g(i, k), 1e-8);
+      // volume() is divided by scale^3, gradient() by scale^2
+      EXPECT_NEAR((v.volume(0, a) - v.volume(0, b)) * v.scale(0) / (2 * h), g(i, k), 1e-8);
     }
 }
 
@@ -103,6 +105,31 @@ TEST(EnclosedVolumes, MultiplierReachesTheTargetOfTheScaleField) {
   y = s.x;
   y.topRows(s.n_free) += l2 * u;
   EXPECT_NEAR(v.volume(0, y) / rest, mean_cube, 1e-9);
+}
+
+// At 1e150 the volume (1e450) and its gradient (1e300 per unit area) would overflow, at
+// 1e-150 underflow; scaled by a power of two they are the unit sphere's to rounding.
+TEST(EnclosedVolumes, ExtremeSizesNeitherOverflowNorUnderflow) {
+  const HalfSphere unit = sphere(1.0, Vec3::Zero());
+  const EnclosedVolumes reference(unit.mesh, unit.mesh.positions(), unit.local, unit.n_free, unit.regions);
+  Eigen::MatrixXd g_ref(unit.n_free, 3);
+  reference.gradient(0, unit.x, g_ref);
+  for (const double size : {1e150, 1e-150}) {
+    const HalfSphere s = sphere(size, Vec3::Zero());
+    const EnclosedVolumes v(s.mesh, s.mesh.positions(), s.local, s.n_free, s.regions);
+    Eigen::MatrixXd g(s.n_free, 3);
+    v.gradient(0, s.x, g);
+    ASSERT_TRUE(g.allFinite()) << size;
+    const double ratio = v.scale(0) / reference.scale(0) / size;  // the power of two nearest `size`, relative
+    EXPECT_NEAR(v.volume(0, s.x) * std::pow(ratio, 3), reference.volume(0, unit.x), 1e-12) << size;
+    EXPECT_LT((g * ratio * ratio - g_ref).cwiseAbs().maxCoeff(), 1e-12) << size;
+    Eigen::MatrixXd u = s.x.topRows(s.n_free);
+    EnclosedVolumes::RowMatrixX3d shrunk = s.x;
+    shrunk.topRows(s.n_free) *= 0.9;
+    const double lambda = v.multiplier(0, shrunk, u);
+    shrunk.topRows(s.n_free) += lambda * u;
+    EXPECT_NEAR(v.volume(0, shrunk) / v.volume(0, s.x), 1.0, 1e-10) << size;
+  }
 }
 
 TEST(EnclosedVolumes, OpenMeshesHaveNone) {

@@ -203,6 +203,35 @@ def test_nonlinear_model_reports_its_iterations(plane):
     assert linear.stats["nonlinear"] is None
 
 
+def test_nonlinear_keeps_the_volume_of_closed_meshes():
+    """A sphere's cap pulled up and turned 90 degrees: with the volume term (the default) the
+    enclosed volume, computed here from the faces, stays the rest volume; without it, it
+    changes."""
+    sphere = freeform.make_icosphere(3)
+    v, f = sphere.vertices, np.asarray(sphere.faces)
+    support = np.nonzero(v[:, 2] > -0.2)[0].tolist()
+    cap = np.nonzero(v[:, 2] > 0.8)[0].tolist()
+    c, s = np.cos(np.pi / 2), np.sin(np.pi / 2)
+    t = np.eye(4)
+    t[:3, :3] = [[1, 0, 0], [0, c, -s], [0, s, c]]
+    t[:3, 3] = [0, -0.9, 1.2]
+
+    def volume(x):
+        return np.einsum("ij,ij->i", x[f[:, 0]], np.cross(x[f[:, 1]], x[f[:, 2]])).sum() / 6.0
+
+    def run(preserve):
+        d = {"order": 2, "multiresolution": False, "deformation": "nonlinear",
+             "nonlinear": {"preserve_volume": preserve}, "support": {"vertices": support},
+             "handles": [{"region": {"vertices": cap}, "transform": {"matrix": t.tolist()}}]}
+        edit = freeform.Edit.from_dict(d, sphere)
+        assert edit.to_dict()["nonlinear"]["preserve_volume"] is preserve
+        return freeform.deform(sphere, edit)
+
+    rest = volume(v)
+    assert abs(volume(run(True)) / rest - 1.0) < 1e-6
+    assert abs(volume(run(False)) / rest - 1.0) > 0.01
+
+
 def test_drag_frames_refine_to_the_models_solution(plane):
     """The editor's loop from Python: budgeted frames while the handle moves, refine() while it
     rests, until converged: then as close to the tightly solved fixed point as a cold solve

@@ -51,6 +51,20 @@ EnclosedVolumes::EnclosedVolumes(const Mesh& mesh, const VertexData<Vec3>& rest,
     part.centre /= static_cast<double>(part.local_rows.size() + part.extra.size());
     part.extra_now = part.extra_rest;
   }
+  std::vector<double> extent(parts_.size(), 0.0);
+  for (Vertex v : mesh.vertices()) {
+    const int p = comp.vertex_component[v] >= 0 ? part_of[static_cast<std::size_t>(comp.vertex_component[v])] : -1;
+    if (p >= 0 && !mesh.is_isolated(v)) {
+      const auto up = static_cast<std::size_t>(p);
+      extent[up] = std::max(extent[up], (rest[v] - parts_[up].centre).cwiseAbs().maxCoeff());
+    }
+  }
+  for (std::size_t p = 0; p < parts_.size(); ++p) {
+    int e = 0;
+    std::frexp(extent[p] > 0.0 && std::isfinite(extent[p]) ? extent[p] : 1.0, &e);
+    parts_[p].scale = std::ldexp(1.0, e);
+    parts_[p].inv_scale = std::ldexp(1.0, -e);
+  }
   // The rest volume from the rest rows, by the same code as every frame's (exact at identity).
   Eigen::Index rows = 0;
   for (Vertex v : mesh.vertices()) rows = std::max<Eigen::Index>(rows, local[v] + 1);
@@ -64,7 +78,9 @@ EnclosedVolumes::EnclosedVolumes(const Mesh& mesh, const VertexData<Vec3>& rest,
 }
 
 Vec3 EnclosedVolumes::corner(const Part& part, int index, const RowMatrixX3d& x) const {
-  return (index >= 0 ? Vec3(x.row(index).transpose()) : part.extra_now[static_cast<std::size_t>(-1 - index)]) - part.centre;
+  return ((index >= 0 ? Vec3(x.row(index).transpose()) : part.extra_now[static_cast<std::size_t>(-1 - index)]) -
+          part.centre) *
+         part.inv_scale;
 }
 
 void EnclosedVolumes::start(std::span<const Eigen::Affine3d> transforms, std::span<const double> scale,
@@ -97,7 +113,7 @@ void EnclosedVolumes::gradient(int c, const RowMatrixX3d& x, Eigen::Ref<Eigen::M
     const Vec3 grad[3] = {b.cross(d), d.cross(a), a.cross(b)};
     for (int k = 0; k < 3; ++k)
       if (f[static_cast<std::size_t>(k)] >= 0 && f[static_cast<std::size_t>(k)] < n_free_)
-        g.row(f[static_cast<std::size_t>(k)]) += grad[k].transpose() / 6.0;
+        g.row(f[static_cast<std::size_t>(k)]) += grad[k].transpose() / 6.0;  // d/dy of V / scale^3, y = x / scale
   }
 }
 
@@ -112,7 +128,7 @@ double EnclosedVolumes::multiplier(int c, const RowMatrixX3d& x, const Eigen::Ma
     const double f = volume(c, y) - part.target;
     if (!(std::abs(f) > tol)) return lambda;  // also a non-finite f: no correction
     gradient(c, y, g);
-    const double slope = g.cwiseProduct(u).sum();
+    const double slope = g.cwiseProduct(u).sum() * part.inv_scale;  // d(V / scale^3) / d lambda
     if (!(std::abs(slope) > 0.0)) return 0.0;
     lambda -= f / slope;
     if (!std::isfinite(lambda)) return 0.0;

@@ -34,9 +34,14 @@ class EnclosedVolumes {
   void start(std::span<const Eigen::Affine3d> transforms, std::span<const double> scale,
              std::span<const double> handle_scale);
 
-  // Gradient of component c's volume at x (local rows) in the free rows of g; other rows 0.
+  // Volumes and gradients are computed on the component's positions centred and scaled by a
+  // power of two (exact), so that they neither overflow nor underflow at any size:
+  // scale(c) ~ the component's rest extent.
+  double scale(int c) const { return parts_[static_cast<std::size_t>(c)].scale; }
+  // Gradient of component c's volume at x (local rows) in the free rows of g, other rows 0,
+  // divided by scale(c)^2.
   void gradient(int c, const RowMatrixX3d& x, Eigen::Ref<Eigen::MatrixXd> g) const;
-  // Volume of component c at x.
+  // Volume of component c at x divided by scale(c)^3.
   double volume(int c, const RowMatrixX3d& x) const;
   // The lambda for which component c's volume at x + lambda u (u: free rows) is the target
   // (Newton on the cubic); 0 if it is already, or if no such lambda is found nearby.
@@ -51,7 +56,8 @@ class EnclosedVolumes {
     std::vector<Vec3> extra_rest, extra_now;
     std::vector<int> local_rows;      // the component's local rows
     Vec3 centre = Vec3::Zero();       // of the rest, for accuracy far from the origin
-    double rest_volume = 0, target = 0;
+    double scale = 1, inv_scale = 1;  // a power of two near the rest extent, and its inverse
+    double rest_volume = 0, target = 0;  // divided by scale^3
   };
   std::vector<Part> parts_;
   int n_free_ = 0;

@@ -1,15 +1,18 @@
 // The nonlinear deformation model (docs/nonlinear.md): BCM made rotation-aware. BCM's operator
 // splits as S_k = outer * L (bcm_system.h). Linear BCM keeps the rest's Laplacian coordinates
 // L x_rest fixed, so a rotated handle shears the support; this model rotates every edge of
-// them with the mean rotation (and scale) of its ends, as ARAP's right-hand side does:
+// them with the mean rotation (and scale) of its ends, as ARAP's right-hand side does (an
+// edge to a constrained vertex with the row's own, so the boundary stays C^(k-1)):
 //
 //   A_pp x_p = outer * b(R) - A_pc x_c,   b_i(R) = sum_j w_ij (s_i R_i + s_j R_j) / 2 (x_j - x_i)_rest
 //
-// so order k and the boundary smoothness keep their meaning. It alternates a global step (one back-substitution with BCM's own factorization) and a local
-// step (R_i fitted to the edges around i, warm-started quaternion extraction, parallel). The
-// first rotations come from the handles' rotations blended by BCM's own basis functions
-// (harmonic guidance), so most edits converge in a few iterations. Identity transforms give
-// the rest exactly; a rigid motion of every constraint moves everything rigidly.
+// so order k and the boundary smoothness keep their meaning. It alternates a global step (one
+// back-substitution with BCM's own factorization; one more per closed component to keep its
+// volume, enclosed_volume.h) and a local step (R_i fitted to the edges of a neighbourhood
+// that grows with the support, Newton steps from the last rotation, parallel). The first
+// rotations come from the handles' rotations blended by BCM's own basis functions (harmonic
+// guidance), so most edits converge in a few iterations. Identity transforms give the rest
+// exactly; a rigid motion of every constraint moves everything rigidly.
 #pragma once
 
 #include "freeform/bcm/bcm_solver.h"
