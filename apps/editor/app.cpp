@@ -168,6 +168,8 @@ int App::run() {
     // Wait for input when nothing changes on its own.
     if (redraw_frames_ > 0 || busy()) {
       glfwPollEvents();
+    } else if (doc_.refining()) {
+      glfwWaitEventsTimeout(1.0 / 30.0);  // the nonlinear model's worker publishes new iterates
     } else {
       glfwWaitEventsTimeout(0.5);
     }

@@ -230,7 +230,7 @@ void App::panel_parameters() {
   ImGui::Checkbox("multiresolution", &p.multiresolution);
   help_marker("Keep the surface detail while the base deforms (docs/multires.md)");
   ImGui::Checkbox("nonlinear", &p.nonlinear);
-  help_marker("Rotation-aware: large twists and bends keep their volume (docs/nonlinear.md); iterates a few ms per frame");
+  help_marker("Rotation-aware: large twists and bends keep their volume (docs/nonlinear.md); iterates on a worker thread while the display follows the handle");
   if (slider_done) {
     p.outer = param_edit_.outer;
     p.inner = param_edit_.inner;
@@ -258,14 +258,11 @@ void App::panel_parameters() {
       if (ImGui::SmallButton("Recompute")) attempt("recompute", [&] { doc_.recompute(); });
     } else if (doc_.solver_current() && doc_.solver()) {
       ImGui::TextDisabled("solver ready%s", doc_.solver()->multiresolution() ? " (multiresolution)" : "");
-      if (doc_.solver()->solver().nonlinear_state()) {
+      if (doc_.solver()->solver().stats().deformation == Deformation::Nonlinear) {
         const FrameTimings& f = doc_.last_timings();
         ImGui::SameLine();
-        if (f.iterations == 0 && !f.converged)
-          ImGui::TextDisabled("| nonlinear: predicted (iterates when the handle rests)");
-        else
-          ImGui::TextDisabled("| nonlinear: %d iterations, residual %.1e%s", f.iterations, f.residual,
-                              f.converged ? "" : " (refining)");
+        ImGui::TextDisabled("| nonlinear: %d iterations, residual %.1e%s", f.iterations, f.residual,
+                            f.predicted ? " (predicted, refining)" : f.converged ? "" : " (refining)");
       }
       // Folds and flattened detail, so a problem shows without rendering a close-up; not during
       // a drag (O(support) per check), the last count stays.

@@ -59,7 +59,9 @@ void Document::reset(std::shared_ptr<const Mesh> rest, std::string path) {
   stroke_.reset();
   active_ = -1;
   active_segment_ = -1;
+  drag_.reset();
   solver_.reset();
+  refining_ = false;
   ++request_tag_;
   display_ = rest_->positions();
   ++display_reset_version_;
@@ -395,7 +397,7 @@ std::string Document::apply_blocker() const {
 void Document::apply() {
   end_stroke();
   if (const std::string why = apply_blocker(); !why.empty()) throw InvalidInput("cannot apply: " + why);
-  update_display();
+  settle_display();  // bake the nonlinear model's result, not an iterate on its way
   FF_CHECK(solver_current(), "apply without a current solver");
   ApplyDelta a;
   a.applied = state_.to_edit(*rest_);
@@ -433,20 +435,22 @@ void Document::redo() {
   play_step(history_.redo(), true);
 }
 
-FrameTimings Document::update_display() {
+FrameTimings Document::update_display(bool settle) {
   FrameTimings t;
   if (!rest_) return t;
   if (const std::uint64_t g = job_.generation(); g != adopted_generation_) {
     adopted_generation_ = g;
     std::shared_ptr<const PreparedSolver> s = job_.solver();
     if (s && s != solver_ && s->rest() == rest_) {  // a solver of an older rest mesh is useless
+      drag_.reset();
       solver_ = std::move(s);
       base_valid_ = false;
       display_stale_ = true;
     }
   }
-  if (!display_stale_ && base_valid_) return t;
+  if (!display_stale_ && base_valid_ && !(settle && refining_)) return t;
   const auto start = std::chrono::steady_clock::now();
+  const bool reset = !base_valid_;
   if (!base_valid_) {
     display_ = rest_->positions();
     ++display_reset_version_;
@@ -459,21 +463,28 @@ FrameTimings Document::update_display() {
       const HandleState* h = state_.find_handle(ids[m]);
       transforms_[m] = h && h->movable ? state_.transform(ids[m], *rest_) : Eigen::Affine3d::Identity();
     }
-    const bool same = refining_ && refined_transforms_.size() == transforms_.size() &&
-                      std::equal(transforms_.begin(), transforms_.end(), refined_transforms_.begin(),
-                                 [](const Eigen::Affine3d& a, const Eigen::Affine3d& b) { return a.matrix() == b.matrix(); });
-    const int before = timings_.iterations;
-    t = solver_->evaluate(transforms_, display_, same);
-    refining_ = !t.converged && (!same || t.iterations != before);  // stops at the iteration cap
-    refined_transforms_ = transforms_;
+    // A reset display needs every touched vertex written, so a fresh session (a new solver
+    // or mesh: its first frame starts the model from these transforms).
+    if (reset) drag_.reset();  // its worker must stop before a new one drives the same model
+    if (!drag_) drag_ = std::make_unique<DragSession>(solver_->solver());
+    const DragFrame f = settle ? drag_->finish(transforms_, display_) : drag_->frame(transforms_, display_);
+    refining_ = !f.settled;
+    display_stale_ = refining_;
+    if (!f.written) return t;
+    t = {f.evaluate_ms, f.reconstruction_ms, 0.0, true, f.state.iterations, f.state.step, f.settled && f.state.converged,
+         f.predicted};
+  } else {
+    refining_ = false;
+    display_stale_ = false;
   }
   t.evaluated = true;
   t.total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   timings_ = t;
-  display_stale_ = refining_;
   ++display_version_;
   return t;
 }
+
+FrameTimings Document::settle_display() { return update_display(true); }
 
 std::span<const Vertex> Document::display_touched() const {
   if (solver_ && solver_->rest() == rest_) return solver_->touched();
@@ -508,7 +519,7 @@ void Document::save_mesh(const std::string& path, bool allow_overwrite_input) {
   const bool input = !path_.empty() && same_file(path, path_);
   if (input && !allow_overwrite_input)
     throw InvalidInput("\"" + path + "\" is the input mesh: save under another name or allow overwriting the input");
-  update_display();
+  settle_display();
   TriangleSoup soup = rest_->to_soup();
   for (std::size_t i = 0; i < soup.positions.size(); ++i) soup.positions[i] = display_[Vertex(static_cast<int>(i))];
   write_mesh(path, soup);

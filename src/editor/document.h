@@ -18,6 +18,7 @@
 #include "editor/edit_state.h"
 #include "editor/history.h"
 #include "editor/precompute_job.h"
+#include "freeform/edit/drag_session.h"
 
 #include <cstdint>
 #include <memory>
@@ -120,7 +121,13 @@ class Document {
   // --- display, once per frame ---
   // Adopts a finished solver and re-evaluates if anything changed. Never throws for a valid
   // document; `evaluated` is false when nothing had to be computed.
-  FrameTimings update_display();
+  // The nonlinear model iterates on a worker thread (DragSession): while it has not settled,
+  // refining() is true and later updates show its newer iterates (call once per frame).
+  FrameTimings update_display() { return update_display(false); }
+  bool refining() const { return refining_; }
+  // Blocks until the nonlinear model settled for the current transforms and shows its result
+  // (tests, headless use; the linear model: update_display()).
+  FrameTimings settle_display();
   const VertexData<Vec3>& display_positions() const { return display_; }
   const FrameTimings& last_timings() const { return timings_; }
   std::uint64_t display_version() const { return display_version_; }  // changes on re-evaluation
@@ -200,9 +207,8 @@ class Document {
   std::vector<Eigen::Affine3d> transforms_;
   bool base_valid_ = false;     // display_ holds the rest positions outside the solver's reach
   bool display_stale_ = true;   // re-evaluate on the next update_display
-  // The nonlinear model has not converged for transforms_ yet: the next updates continue it.
-  bool refining_ = false;
-  std::vector<Eigen::Affine3d> refined_transforms_;
+  std::unique_ptr<DragSession> drag_;  // over solver_'s EditSolver: destroyed before it
+  bool refining_ = false;              // drag_ has not settled for transforms_
   FrameTimings timings_;
   std::uint64_t display_version_ = 0;
   std::uint64_t display_reset_version_ = 0;
@@ -212,6 +218,7 @@ class Document {
   PrecomputeJob job_;  // last: destroyed (joined) first
 
   void require_mesh() const;
+  FrameTimings update_display(bool settle);
   void reset(std::shared_ptr<const Mesh> rest, std::string path);
   void play_step(const Step& step, bool forward);
   void record(Step step);  // plays nothing: the step was just done

@@ -16,17 +16,6 @@ PreparedSolver::PreparedSolver(const PrecomputeRequest& request, const Progress&
   solver_ = std::make_unique<EditSolver>(*rest_, request.edit, progress);
 }
 
-FrameTimings PreparedSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
-                                      bool refine) const {
-  const bool preview = !refine && solver_->nonlinear_state() && iteration_ms_ > kNonlinearFrameBudgetMs;
-  const NonlinearState s = preview  ? solver_->preview(transforms, positions)
-                           : refine ? solver_->refine(transforms, kNonlinearFrameBudgetMs, positions)
-                                    : solver_->evaluate_within(transforms, kNonlinearFrameBudgetMs, positions);
-  if (!preview && s.iterations > 0) iteration_ms_ = s.ms / s.iterations;
-  const EditTimings& e = solver_->last_timings();
-  return {e.evaluate_ms, e.reconstruction_ms, e.evaluate_ms + e.reconstruction_ms, true, s.iterations, s.step, s.converged};
-}
-
 PrecomputeJob::~PrecomputeJob() {
   {
     std::lock_guard lock(mutex_);

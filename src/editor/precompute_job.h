@@ -25,20 +25,18 @@ namespace freeform::editor {
 
 // Wall times of one display update, in milliseconds.
 struct FrameTimings {
-  double evaluate_ms = 0;        // the BCM basis product (multires: its base)
+  double evaluate_ms = 0;        // the BCM basis product (multires: its base) or the prediction
   double reconstruction_ms = 0;  // multires detail reconstruction; 0 without multires
   double total_ms = 0;           // the whole update (copies and transforms included)
   bool evaluated = false;        // false: nothing changed, nothing was computed
-  // The nonlinear model: iterations of this frame's solve so far, its residual, and whether
-  // it converged (always true for the linear model).
+  // The nonlinear model (DragSession): iterations and last step of the iterate shown, whether
+  // it converged for these transforms (always true for the linear model), and whether the
+  // display is a prediction from an iterate of older transforms.
   int iterations = 0;
   double residual = 0;
   bool converged = true;
+  bool predicted = false;
 };
-
-// Per-frame time the nonlinear model may iterate (a drag stays interactive; it keeps
-// converging on the next frames when the mouse stops).
-inline constexpr double kNonlinearFrameBudgetMs = 20.0;
 
 struct PrecomputeRequest {
   std::shared_ptr<const Mesh> rest;  // the rest mesh, shared and never modified
@@ -50,8 +48,8 @@ struct PrecomputeRequest {
   std::function<void(std::string_view stage, double fraction)> on_progress;
 };
 
-// A finished precomputation: immutable after construction (its evaluate uses internal
-// workspace, so call it from one thread at a time).
+// A finished precomputation: immutable after construction. Frames go through a DragSession
+// over solver() (one per document, see Document::update_display).
 class PreparedSolver {
  public:
   // The edit's EditSolver (as deform() builds it). Throws like it (InvalidInput, SolverError,
@@ -68,22 +66,11 @@ class PreparedSolver {
   std::uint64_t tag() const { return tag_; }
   const std::shared_ptr<const Mesh>& rest() const { return rest_; }
 
-  // Writes the free and movable-handle vertices of `positions` (#V, start from the rest
-  // positions). One transform per movable index. Throws InvalidInput on a wrong count.
-  // The nonlinear model iterates for kNonlinearFrameBudgetMs, from the last frame's solution;
-  // `refine`: the transforms did not change, continue that solve (up to its iteration cap).
-  // New transforms while one iteration costs more than that budget (large supports): the
-  // frame shows the last iterate moved by linear BCM's change (EditSolver::preview) and the
-  // iterations run once the transforms rest, so a drag stays interactive.
-  FrameTimings evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
-                        bool refine = false) const;
-
  private:
   std::shared_ptr<const Mesh> rest_;
   std::vector<int> movable_ids_;
   std::uint64_t tag_ = 0;
   std::unique_ptr<EditSolver> solver_;
-  mutable double iteration_ms_ = 0;  // the nonlinear model's measured cost per iteration
 };
 
 enum class JobState { Idle, Running, Finished, Failed, Cancelled };

@@ -88,10 +88,9 @@ TEST(PrecomputeJob, FinishesLikeDeform) {
     edit.handles[0].matrix = t;
     const Mesh expected = deform(*m, edit);
     VertexData<Vec3> positions = m->positions();
-    const FrameTimings ft = solver->evaluate(std::span<const Eigen::Affine3d>(&t, 1), positions);
-    EXPECT_TRUE(ft.evaluated);
+    solver->solver().evaluate(std::span<const Eigen::Affine3d>(&t, 1), positions);
     if (!multires) {
-      EXPECT_EQ(ft.reconstruction_ms, 0.0);
+      EXPECT_EQ(solver->solver().last_timings().reconstruction_ms, 0.0);
     }
     double err = 0;
     for (Vertex v : m->vertices()) err = std::max(err, (positions[v] - expected.position(v)).norm());

@@ -106,17 +106,27 @@ NonlinearSolver* EditSolver::nonlinear() const { return multires_ ? multires_->n
 const NonlinearState* EditSolver::nonlinear_state() const { return nonlinear() ? &nonlinear()->state() : nullptr; }
 
 void EditSolver::write_nonlinear(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
+  show(transforms, nonlinear()->free_positions(), positions);
+}
+
+void EditSolver::show(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<const BcmSolver::RowMatrixX3d> free_rows,
+                      VertexData<Vec3>& positions) const {
   if (positions.size() != static_cast<std::size_t>(n_vertices()))
     throw InvalidInput("evaluate: positions have " + std::to_string(positions.size()) + " entries, the mesh has " +
                        std::to_string(n_vertices()) + " vertices");
   if (multires_) {
-    multires_->reconstruct(transforms, positions);
+    multires_->reconstruct(transforms, free_rows, positions);
     timings_.reconstruction_ms = multires_->last_timings().detail_ms;
     return;
   }
-  const auto rows = nonlinear_->free_positions();
   const std::vector<Vertex>& free = bcm_->free_vertices();
-  for (std::size_t i = 0; i < free.size(); ++i) positions[free[i]] = rows.row(static_cast<Eigen::Index>(i)).transpose();
+  if (free_rows.rows() != static_cast<Eigen::Index>(free.size()))
+    throw InvalidInput("show: " + std::to_string(free_rows.rows()) + " rows for " + std::to_string(free.size()) +
+                       " free vertices");
+  if (static_cast<int>(transforms.size()) != n_movable())
+    throw InvalidInput("show: got " + std::to_string(transforms.size()) + " transforms for " +
+                       std::to_string(n_movable()) + " movable handles");
+  for (std::size_t i = 0; i < free.size(); ++i) positions[free[i]] = free_rows.row(static_cast<Eigen::Index>(i)).transpose();
   bcm_->move_handles(transforms, positions);
   timings_.reconstruction_ms = 0.0;
 }

@@ -86,6 +86,12 @@ class EditSolver {
   // frame): the last iterate moved by the change of linear BCM (first order), written like
   // evaluate(); refine() continues from it. The linear model: evaluate().
   NonlinearState preview(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
+  // Writes the touched vertices of `positions` for free rows given in free_vertices() order
+  // (multiresolution: the base's, its detail added back) and the movable handles moved by
+  // `transforms`; no solve. How DragSession shows an iterate of another thread. Throws
+  // InvalidInput on wrong sizes.
+  void show(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<const BcmSolver::RowMatrixX3d> free_rows,
+            VertexData<Vec3>& positions) const;
   // Non-finite positions, folded edges and detail problems of `positions` as written by the
   // last evaluate(). O(support).
   EditProblems problems(const VertexData<Vec3>& positions) const;
@@ -107,6 +113,7 @@ class EditSolver {
   EditStats stats_;
   mutable EditTimings timings_;
 
+  friend class DragSession;  // drives the nonlinear model on its worker thread
   NonlinearSolver* nonlinear() const;
   void start_warm(NonlinearSolver& model, std::span<const Eigen::Affine3d> transforms) const;
   void write_nonlinear(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;

@@ -302,16 +302,21 @@ std::vector<bool> MultiresSolver::fallback_mask() const {
   return out;
 }
 
-void MultiresSolver::update_base(std::span<const Eigen::Affine3d> transforms, Base source) const {
+void MultiresSolver::update_base(std::span<const Eigen::Affine3d> transforms, Base source,
+                                 const Eigen::Ref<const RowMatrixX3d>* given) const {
   auto top = base_.topRows(n_free_);
   if (source == Base::Linear || !nonlinear_) {
     bcm_.evaluate(transforms, top);  // checks the count and finiteness of the transforms
+  } else if (source == Base::NonlinearSolve) {
+    nonlinear_->solve(transforms, top);  // checks them too
   } else {
-    if (source == Base::NonlinearSolve) nonlinear_->solve(transforms, top);  // checks them too
-    else if (static_cast<int>(transforms.size()) != bcm_.n_movable())
+    if (static_cast<int>(transforms.size()) != bcm_.n_movable())
       throw InvalidInput("reconstruct: got " + std::to_string(transforms.size()) + " transforms for " +
                          std::to_string(bcm_.n_movable()) + " movable handles");
-    else top = nonlinear_->free_positions();
+    if (given->rows() != n_free_)
+      throw InvalidInput("reconstruct: the base has " + std::to_string(given->rows()) + " rows for " +
+                         std::to_string(n_free_) + " free vertices");
+    top = *given;
   }
   const int n_handle = n_moving_ - n_free_;
   double* b = base_.data();
@@ -393,13 +398,14 @@ void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, Verte
   add_detail(positions);
 }
 
-void MultiresSolver::reconstruct(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
+void MultiresSolver::reconstruct(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<const RowMatrixX3d> base,
+                                 VertexData<Vec3>& positions) const {
   if (!nonlinear_) throw InvalidInput("multiresolution reconstruct: the base is linear, use evaluate()");
   if (positions.size() != static_cast<std::size_t>(n_vertices_))
     throw InvalidInput("multiresolution reconstruct: positions have " + std::to_string(positions.size()) +
                        " entries, the mesh has " + std::to_string(n_vertices_) + " vertices");
   const auto t0 = Clock::now();
-  update_base(transforms, Base::NonlinearIterate);
+  update_base(transforms, Base::Given, &base);
   timings_.base_ms = ms_since(t0);
   add_detail(positions);
 }

@@ -101,11 +101,13 @@ class MultiresSolver {
   // With a nonlinear base: one cold solve of that model (to convergence or its cap).
   void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
 
-  // The nonlinear model of the base (null for the linear base). The editor's drag runs its
-  // start/iterate itself and calls reconstruct() to show the current iterate with its detail.
+  // The nonlinear model of the base (null for the linear base). A drag runs its start/iterate
+  // itself (EditSolver, DragSession) and calls reconstruct() to show an iterate with its detail.
   NonlinearSolver* nonlinear() const { return nonlinear_.get(); }
-  // Like evaluate(), with the base taken from nonlinear()'s current iterate (no solve).
-  void reconstruct(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
+  // Like evaluate(), with the base's free rows given (P x 3, an iterate of nonlinear(); no
+  // solve). Uses the same workspace as evaluate(). Throws InvalidInput without a nonlinear base.
+  void reconstruct(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<const BcmSolver::RowMatrixX3d> base,
+                   VertexData<Vec3>& positions) const;
 
   // Flipped triangles and local overlaps of `positions` as written by the last evaluate()
   // (it uses that call's base). Counts only changes against the rest state. O(support).
@@ -161,8 +163,8 @@ class MultiresSolver {
   mutable MultiresTimings timings_;
   mutable int flattened_ = 0;  // vertices whose detail the last evaluate() flattened
 
-  enum class Base { Linear, NonlinearSolve, NonlinearIterate };
-  void update_base(std::span<const Eigen::Affine3d> transforms, Base source) const;
+  enum class Base { Linear, NonlinearSolve, Given };
+  void update_base(std::span<const Eigen::Affine3d> transforms, Base source, const Eigen::Ref<const RowMatrixX3d>* given = nullptr) const;
   void add_detail(VertexData<Vec3>& positions) const;
   // Rebuilds free vertex i with its height lowered by multires::safe_height; 1 if it was lowered.
   int flatten_detail(int i, Vec3* out) const;

@@ -201,7 +201,8 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
   state_ = {};
 }
 
-const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget_ms) {
+const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget_ms,
+                                               const std::atomic<bool>* interrupt) {
   Data& d = *d_;
   const auto t0 = Clock::now();
   const double ms0 = state_.ms;
@@ -242,9 +243,11 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
     // Not on the first step after a start: its move is measured from the warm start's
     // prediction, which can be close to the new iterate while both are far from the solution.
     state_.converged = state_.step <= options_.tolerance && state_.iterations > 1;
-    if (!state_.converged) fit_rotations();  // before any break: the next call starts with a fresh fit
+    const bool interrupted = interrupt && interrupt->load(std::memory_order_relaxed);
+    // Before any other break: the next call starts with a fresh fit.
+    if (!state_.converged && !interrupted) fit_rotations();
     state_.ms = ms0 + std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    if (state_.converged || state_.ms - ms0 >= budget_ms) break;
+    if (state_.converged || interrupted || state_.ms - ms0 >= budget_ms) break;
   }
   return state_;
 }

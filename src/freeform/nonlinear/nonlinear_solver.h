@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <atomic>
 #include <limits>
 #include <memory>
 #include <span>
@@ -79,7 +80,10 @@ class NonlinearSolver {
   // iterate (the iterations do not depend on it).
   void start(std::span<const Eigen::Affine3d> transforms, bool warm, const RowMatrixX3d* linear = nullptr);
   // Runs global/local iterations until converged, `max_iterations` more, or `budget_ms` spent.
-  const NonlinearState& iterate(int max_iterations, double budget_ms = std::numeric_limits<double>::infinity());
+  // `interrupt` (another thread's request, e.g. new transforms): checked after each global
+  // step; when set, returns before the rotation fit (the iterate is valid, the step counted).
+  const NonlinearState& iterate(int max_iterations, double budget_ms = std::numeric_limits<double>::infinity(),
+                                const std::atomic<bool>* interrupt = nullptr);
   const NonlinearState& state() const { return state_; }
   // Free vertices after the last iteration (P x 3, BcmSolver::free_vertices() order).
   Eigen::Ref<const RowMatrixX3d> free_positions() const;
