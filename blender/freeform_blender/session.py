@@ -123,19 +123,26 @@ class Session:
         self.show(obj, transforms)
         self.remember()
 
-    def drag(self, obj, transforms, budget_ms):
-        """A mouse move: the nonlinear model iterates from the last frame for at most budget_ms
-        (refine() goes on); returns whether the shown shape is converged (linear: always).
-        Not remembered: only the shape an operation ends with becomes an undo step."""
-        state = self.solver.evaluate_within(self.out, self.transform_list(transforms), budget_ms=budget_ms)
+    def drag(self, obj, transforms):
+        """A mouse move: shows at once the nonlinear model's newest iterate, moved by linear BCM's
+        change to `transforms` (its iterations run on a worker thread; solver.frame); returns
+        whether the shown shape is settled (linear: always). Not remembered: only the shape an
+        operation ends with becomes an undo step."""
+        state = self.solver.frame(self.out, self.transform_list(transforms))
         self.show(obj, transforms)
-        return state["converged"]
+        return state["settled"]
 
-    def refine(self, obj, budget_ms):
-        """Continue the last drag frame's iterations; returns whether converged."""
-        converged = self.solver.refine(self.out, self.transform_list(), budget_ms=budget_ms)["converged"]
+    def refine(self, obj):
+        """Shows the worker's newer iterate, if any (a timer tick); returns whether settled."""
+        state = self.solver.frame(self.out, self.transform_list())
+        if state["written"]:
+            self.show(obj, self.transforms)
+        return state["settled"]
+
+    def settle(self, obj):
+        """Waits for the converged shape of the current transforms and shows it."""
+        self.solver.settle(self.out, self.transform_list())
         self.show(obj, self.transforms)
-        return converged
 
     def show(self, obj, transforms):
         mesh_data.write_positions(obj, self.out, None if self.write_all else self.solver.touched)

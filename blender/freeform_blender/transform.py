@@ -21,7 +21,6 @@ _DIGITS = {**{n: str(i) for i, n in enumerate(("ZERO", "ONE", "TWO", "THREE", "F
                                                 "EIGHT", "NINE"))},
            **{f"NUMPAD_{i}": str(i) for i in range(10)}, "PERIOD": ".", "NUMPAD_PERIOD": "."}
 _MODES = {'G': 'TRANSLATE', 'R': 'ROTATE', 'S': 'RESIZE'}
-FRAME_BUDGET_MS = 20.0  # the nonlinear model's iterations per mouse move (freeform-editor's budget)
 
 
 def about(pivot, linear):
@@ -115,7 +114,7 @@ class FREEFORM_OT_transform(bpy.types.Operator):
         self.translate, self.angle, self.scale = (0, 0, 0), 0.0, (1, 1, 1)
         self.saved = mesh_data.positions(obj)  # Esc/right click restore exactly this
         self.converged = True
-        # The nonlinear model refines between mouse moves, like freeform-editor.
+        # Timer ticks show the nonlinear worker's newer iterates between mouse moves (freeform-editor too).
         self.timer = context.window_manager.event_timer_add(0.02, window=context.window)
         context.window_manager.modal_handler_add(self)
         self.status(context)
@@ -170,7 +169,7 @@ class FREEFORM_OT_transform(bpy.types.Operator):
                 f = number if number is not None else v.length / max(u.length, 1.0)
                 self.scale = tuple(f if (self.lock is None or self.lock == c) else 1.0 for c in "XYZ")
         obj = context.active_object
-        self.converged = self.session.drag(obj, self.moved(obj), FRAME_BUDGET_MS)
+        self.converged = self.session.drag(obj, self.moved(obj))
         self.status(context)
 
     def finish(self, context):
@@ -197,8 +196,8 @@ class FREEFORM_OT_transform(bpy.types.Operator):
     def handle_event(self, context, event):
         t, pressed = event.type, event.value == 'PRESS'
         if t == 'TIMER':
-            if not self.converged:  # ours or another timer: either way a moment to refine
-                self.converged = self.session.refine(context.active_object, FRAME_BUDGET_MS)
+            if not self.converged:  # ours or another timer: show the worker's newest iterate
+                self.converged = self.session.refine(context.active_object)
                 self.status(context)
             return {'RUNNING_MODAL'}
         if t == 'MOUSEMOVE':
@@ -208,8 +207,9 @@ class FREEFORM_OT_transform(bpy.types.Operator):
         elif not pressed:
             return {'RUNNING_MODAL'}
         elif t in ('LEFTMOUSE', 'RET', 'NUMPAD_ENTER'):
-            while not self.converged:  # the undo step holds the converged shape
-                self.converged = self.session.refine(context.active_object, 1000.0)
+            if not self.converged:  # the undo step holds the converged shape
+                self.session.settle(context.active_object)
+                self.converged = True
             self.session.remember()
             self.finish(context)
             return {'FINISHED'}

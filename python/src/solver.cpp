@@ -4,6 +4,7 @@
 
 #include "freeform/common/error.h"
 #include "freeform/edit/edit_report.h"
+#include "freeform/edit/drag_session.h"
 #include "freeform/edit/edit_solver.h"
 
 #include <array>
@@ -89,6 +90,7 @@ class PySolver {
     {
       py::gil_scoped_release release;
       const std::lock_guard lock(mutex_);
+      drag_.reset();
       solver_->evaluate(t, positions_);
       std::memcpy(dst, positions_.raw().data(), positions_.size() * sizeof(Vec3));
     }
@@ -102,6 +104,7 @@ class PySolver {
     const std::span<const Eigen::Affine3d> t = read(transforms, buf);
     py::gil_scoped_release release;
     const std::lock_guard lock(mutex_);
+    drag_.reset();
     solver_->evaluate(t, positions_);
     copy_touched(dst);
   }
@@ -118,6 +121,7 @@ class PySolver {
     {
       py::gil_scoped_release release;
       const std::lock_guard lock(mutex_);
+      drag_.reset();
       state = refine ? solver_->refine(t, budget_ms, positions_) : solver_->evaluate_within(t, budget_ms, positions_);
       copy_touched(dst);
     }
@@ -125,6 +129,33 @@ class PySolver {
     d["iterations"] = state.iterations;
     d["residual"] = state.step;
     d["converged"] = state.converged;
+    return d;
+  }
+
+  // An interactive frame (DragSession): the nonlinear model iterates on a worker thread and
+  // the frame shows its newest iterate, moved by linear BCM's change when the transforms are
+  // newer (never waits). settle: wait until it converged (or hit its cap) for these transforms.
+  // Writes the touched rows of `out` like evaluate_into. Other frame methods end the session.
+  py::dict drag_frame(py::handle out, py::handle transforms, bool settle) {
+    double* dst = output(out);
+    Buffer buf;
+    const std::span<const Eigen::Affine3d> t = read(transforms, buf);
+    DragFrame f;
+    {
+      py::gil_scoped_release release;
+      const std::lock_guard lock(mutex_);
+      if (!drag_) drag_ = std::make_unique<DragSession>(*solver_);
+      f = settle ? drag_->finish(t, positions_) : drag_->frame(t, positions_);
+      drag_state_ = f.state;
+      copy_touched(dst);
+    }
+    py::dict d;
+    d["written"] = f.written;
+    d["predicted"] = f.predicted;
+    d["settled"] = f.settled;
+    d["iterations"] = f.state.iterations;
+    d["residual"] = f.state.step;
+    d["converged"] = f.settled && f.state.converged;
     return d;
   }
 
@@ -140,6 +171,7 @@ class PySolver {
     {
       py::gil_scoped_release release;
       const std::lock_guard lock(mutex_);
+      drag_.reset();
       std::vector<double> out(copy ? 3 * positions_.size() : 0);
       for (int i = 0; i < n; ++i) {
         const auto start = std::chrono::steady_clock::now();
@@ -156,7 +188,8 @@ class PySolver {
     {
       py::gil_scoped_release release;
       const std::lock_guard lock(mutex_);
-      report.update(edit_report(*solver_, solver_->last_timings(), solver_->problems(positions_)));
+      report.update(edit_report(*solver_, solver_->last_timings(), solver_->problems(positions_),
+                                drag_ ? &drag_state_ : nullptr));
     }
     return to_python(report);
   }
@@ -230,6 +263,9 @@ class PySolver {
   std::vector<Eigen::Affine3d> own_;  // the edit's own transforms
   VertexData<Vec3> positions_;        // rest positions with the last frame's touched vertices
   std::mutex mutex_;                  // EditSolver::evaluate uses workspace: one frame at a time
+  // Declared after solver_ (its worker uses it): destroyed first.
+  std::unique_ptr<DragSession> drag_;
+  NonlinearState drag_state_;         // of drag_'s last frame
 };
 
 }  // namespace
@@ -264,6 +300,20 @@ void bind_solver(py::module_& m) {
            py::arg("out"), py::arg("transforms") = py::none(), py::kw_only(), py::arg("budget_ms") = 20.0,
            "Continues the last frame's nonlinear iterations for at most budget_ms (call while idle until converged); "
            "writes out like evaluate_into; returns {iterations, residual, converged}.")
+      .def(
+          "frame",
+          [](PySolver& self, py::handle out, py::handle transforms) { return self.drag_frame(out, transforms, false); },
+          py::arg("out"), py::arg("transforms") = py::none(),
+          "An interactive frame that never waits: the nonlinear model iterates on a worker thread and this shows "
+          "its newest iterate (moved by linear BCM's change while the transforms are newer than it); call again "
+          "while not settled to see it converge. Writes out like evaluate_into; returns {written (the shape "
+          "changed), predicted, settled, iterations, residual, converged}. The linear model: evaluate_into.")
+      .def(
+          "settle",
+          [](PySolver& self, py::handle out, py::handle transforms) { return self.drag_frame(out, transforms, true); },
+          py::arg("out"), py::arg("transforms") = py::none(),
+          "Like frame, but waits (GIL released) until the nonlinear model converged or hit its iteration cap "
+          "for these transforms: the end of a drag.")
       .def("_time_evaluate", &PySolver::time_evaluate, py::arg("n"), py::arg("transforms") = py::none(),
            py::arg("copy") = false,
            "Seconds of each of n C++ evaluate() calls without Python in the loop (benchmarks); copy=True adds "

@@ -267,3 +267,39 @@ def test_drag_frames_refine_to_the_models_solution(plane):
         solver.refine(out, [t], budget_ms=0.0)
     lin = freeform.EditSolver(plane, freeform.Edit.from_dict(plane_edit_dict(), plane))
     assert lin.evaluate_within(out, None)["converged"] is True
+
+
+def test_frames_never_wait_and_settle_on_the_models_solution(plane):
+    """frame(): the worker thread iterates while each call returns its newest iterate (handle
+    exact); settle() waits for the converged shape, which is the cold solve's fixed point."""
+    d = plane_edit_dict()
+    d["deformation"] = "nonlinear"
+    d["nonlinear"] = {"tolerance": 1e-7}
+    solver = freeform.EditSolver(plane, freeform.Edit.from_dict(d, plane))
+    out = plane.vertices
+    pivot = solver.handle_centroid(0)
+    rest = plane.vertices.copy()
+    handle = np.linalg.norm(rest - [0.5, 0.5, 0.0], axis=1) < 0.085  # inside the handle's sphere
+    assert handle.sum() >= 5
+    for angle in np.radians(np.arange(6, 96, 6)):
+        c, s = np.cos(angle), np.sin(angle)
+        t = np.eye(4)
+        t[:3, :3] = [[1, 0, 0], [0, c, -s], [0, s, c]]
+        t[:3, 3] = pivot - t[:3, :3] @ pivot + [0, 0, 0.2]
+        state = solver.frame(out, [t])
+        # New transforms: the worker cannot be there yet, so (after the first, which waits for
+        # the worker's start) this is a prediction.
+        assert state["written"] and not state["settled"] and np.isfinite(out).all()
+        assert state["predicted"] == (angle > np.radians(7))
+        moved = rest[handle] @ t[:3, :3].T + t[:3, 3]
+        assert np.abs(out[handle] - moved).max() < 1e-12
+    state = solver.settle(out, [t])
+    assert state["settled"] and state["converged"] and state["iterations"] > 1
+    assert solver.frame(out, [t])["written"] is False  # settled: nothing new
+    assert solver.stats["nonlinear"]["converged"] is True
+    handles = [dict(h) for h in d["handles"]]
+    handles[0]["transform"] = {"matrix": t}
+    cold = freeform.deform(plane, freeform.Edit.from_dict(dict(d, handles=handles), plane))
+    assert np.abs(out - cold).max() < 1e-4
+    lin = freeform.EditSolver(plane, freeform.Edit.from_dict(plane_edit_dict(), plane))
+    assert lin.frame(out, None)["settled"] is True

@@ -64,7 +64,10 @@ DragFrame DragSession::frame(std::span<const Eigen::Affine3d> transforms, Vertex
   // The very first frame waits for the worker's start (a basis product, no iteration).
   settled_.wait(lock, [this] { return front_.version > 0 || error_; });
   if (front_.version == 0) throw SolverError("the nonlinear model failed: " + *error_);
-  if (!changed && front_.version == shown_version_) return {false, false, front_.settled, front_.state};
+  if (!changed && front_.version == shown_version_) {
+    const bool predicted = !same_transforms(transforms, front_.transforms);  // the worker is behind
+    return {false, predicted, front_.settled && !predicted, front_.state};
+  }
   return show(transforms, positions, lock);
 }
 

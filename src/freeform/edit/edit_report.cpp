@@ -2,7 +2,8 @@
 
 namespace freeform {
 
-Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditProblems& problems) {
+Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditProblems& problems,
+                 const NonlinearState* state) {
   const Regions& regions = solver.regions();
   const BcmSettings& settings = solver.settings();
   const BcmStats& st = solver.stats().bcm;
@@ -22,7 +23,7 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
                 {"flipped_triangles", problems.detail.flipped},
                 {"overlaps", problems.detail.overlaps}};
   Json nonlinear = nullptr;
-  if (const NonlinearState* ns = solver.nonlinear_state())
+  if (const NonlinearState* ns = solver.nonlinear_state() ? (state ? state : solver.nonlinear_state()) : nullptr)
     nonlinear = {{"iterations", ns->iterations},
                  {"residual", ns->step},
                  {"converged", ns->converged},

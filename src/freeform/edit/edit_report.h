@@ -14,7 +14,9 @@ namespace freeform {
 // smooth_operator, operator_fallback, operator_shape_ms, reconstruct_ms, normal_encoded, fallback, max_height, flipped_triangles, overlaps).
 // nonlinear (null for the linear model; else iterations, residual = the last iteration's
 // largest vertex move / support extent, converged, iterate_ms).
-// `frame` gives the per-frame times, `problems` the frame's detail problems.
-Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditProblems& problems);
+// `frame` gives the per-frame times, `problems` the frame's detail problems; `nonlinear` the
+// state to report instead of the solver's (a DragSession's frame: its worker owns the model).
+Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditProblems& problems,
+                 const NonlinearState* nonlinear = nullptr);
 
 }  // namespace freeform
