@@ -33,7 +33,7 @@ struct DragFrame {
 class DragSession {
  public:
   // `solver` must outlive the session and, while it exists, get no other evaluate(),
-  // evaluate_within(), refine() or preview() (problems() of written positions is fine).
+  // evaluate_within() or refine() (problems() of written positions is fine).
   explicit DragSession(const EditSolver& solver);
   ~DragSession();  // stops the worker after its current global step and joins it
   DragSession(const DragSession&) = delete;

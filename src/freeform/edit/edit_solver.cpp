@@ -152,16 +152,6 @@ void EditSolver::start_warm(NonlinearSolver& model, std::span<const Eigen::Affin
   warm_ = true;
 }
 
-NonlinearState EditSolver::preview(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
-  NonlinearSolver* model = nonlinear();
-  if (!model) return evaluate_within(transforms, std::numeric_limits<double>::infinity(), positions);
-  const auto t0 = std::chrono::steady_clock::now();
-  start_warm(*model, transforms);
-  timings_.evaluate_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  write_nonlinear(transforms, positions);
-  return model->state();
-}
-
 NonlinearState EditSolver::refine(std::span<const Eigen::Affine3d> transforms, double budget_ms,
                                   VertexData<Vec3>& positions) const {
   NonlinearSolver* model = nonlinear();

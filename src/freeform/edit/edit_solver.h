@@ -82,10 +82,6 @@ class EditSolver {
                                  VertexData<Vec3>& positions) const;
   NonlinearState refine(std::span<const Eigen::Affine3d> transforms, double budget_ms,
                         VertexData<Vec3>& positions) const;
-  // A drag frame without an iteration (the editor, when one iteration costs more than a
-  // frame): the last iterate moved by the change of linear BCM (first order), written like
-  // evaluate(); refine() continues from it. The linear model: evaluate().
-  NonlinearState preview(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
   // Writes the touched vertices of `positions` for free rows given in free_vertices() order
   // (multiresolution: the base's, its detail added back) and the movable handles moved by
   // `transforms`; no solve. How DragSession shows an iterate of another thread. Throws

@@ -76,8 +76,8 @@ class NonlinearSolver {
   // on a wrong count or a non-finite transform.
   // `linear`: optionally linear BCM's free rows for these transforms (BcmSolver::evaluate);
   // a warm start then also moves the current iterate by the change of linear BCM since the
-  // last start, a first-order prediction that the editor shows while a drag is too fast to
-  // iterate (the iterations do not depend on it).
+  // last start: the first-order prediction a DragSession frame shows, as the start of the
+  // next iterations.
   void start(std::span<const Eigen::Affine3d> transforms, bool warm, const RowMatrixX3d* linear = nullptr);
   // Runs global/local iterations until converged, `max_iterations` more, or `budget_ms` spent.
   // `interrupt` (another thread's request, e.g. new transforms): checked after each global
