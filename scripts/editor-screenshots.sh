@@ -110,6 +110,32 @@ click_at 91 203                       # ... "back"
 drag 1200 400 1240 410 4 2; x mouseup 2; pause 1
 x mousemove 800 500 sleep 0.3 key f; pause 1
 
+if [ "${1:-}" = nonlinear ]; then
+  # The arm (flood 70 from the fist), the handle at the fist, multiresolution off, nonlinear
+  # on; R rotates the handle about the view axis while the pointer circles the pivot (1085,
+  # 212); the shot is taken mid-drag, with the panel's "(predicted, refining)" status.
+  flood_radius 70
+  x mousemove 800 500 sleep 0.3 key 1 sleep 0.3 key o; pause 0.5
+  click_at 1070 215
+  flood_radius 15
+  x mousemove 800 500 sleep 0.3 key 2; pause 0.5
+  click_at 1090 212
+  pause 4
+  click_at 125 556                    # multiresolution off
+  pause 4
+  click_at 17 579                     # nonlinear on
+  pause 8
+  x mousemove 1085 400 sleep 0.5 key r sleep 0.5
+  for a in $(seq 6 6 96); do
+    x mousemove "$(awk -v a="$a" 'BEGIN { printf "%d", 1085 - 188 * sin(a * 3.14159 / 180) }')" \
+      "$(awk -v a="$a" 'BEGIN { printf "%d", 212 + 188 * cos(a * 3.14159 / 180) }')" sleep 0.05
+  done
+  shot editor-nonlinear no
+  x click 1; pause 1
+  echo "editor-screenshots: done in $(($(date +%s) - start)) s"
+  exit 0
+fi
+
 # 1. Support: flood tool (O) in support mode (1), flood radius 45, one click on the left fist
 #    (the armadillo's left; on screen right): every vertex within 45 along the surface, all
 #    around the forearm (the brush and lasso paint only the visible side).

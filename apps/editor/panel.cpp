@@ -258,16 +258,18 @@ void App::panel_parameters() {
       if (ImGui::SmallButton("Recompute")) attempt("recompute", [&] { doc_.recompute(); });
     } else if (doc_.solver_current() && doc_.solver()) {
       ImGui::TextDisabled("solver ready%s", doc_.solver()->multiresolution() ? " (multiresolution)" : "");
-      if (doc_.solver()->solver().stats().deformation == Deformation::Nonlinear) {
-        const FrameTimings& f = doc_.last_timings();
-        ImGui::SameLine();
-        ImGui::TextDisabled("| nonlinear: %d iterations, residual %.1e%s", f.iterations, f.residual,
-                            f.predicted ? " (predicted, refining)" : f.converged ? "" : " (refining)");
-      }
       // Folds and flattened detail, so a problem shows without rendering a close-up; not during
       // a drag (O(support) per check), the last count stays.
       if (!tools_.transforming()) shown_problems_ = doc_.display_problems();
       if (shown_problems_) problems_line(*shown_problems_);
+      if (doc_.solver()->solver().stats().deformation == Deformation::Nonlinear) {
+        // Its own wrapped line: the panel is narrower than the status with its suffix.
+        const FrameTimings& f = doc_.last_timings();
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        ImGui::TextWrapped("nonlinear: %d iterations, residual %.1e%s", f.iterations, f.residual,
+                           f.predicted ? " (predicted, refining)" : f.converged ? "" : " (refining)");
+        ImGui::PopStyleColor();
+      }
     }
   }
 }
