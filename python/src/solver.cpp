@@ -3,6 +3,7 @@
 #include "bindings.h"
 
 #include "freeform/common/error.h"
+#include "freeform/common/parallel.h"
 #include "freeform/edit/edit_report.h"
 #include "freeform/edit/drag_session.h"
 #include "freeform/edit/edit_solver.h"
@@ -248,14 +249,15 @@ class PySolver {
   void copy_touched(double* dst) const {
     const std::vector<Vertex>& touched = solver_->touched();
     const auto n = static_cast<std::ptrdiff_t>(touched.size());
-#pragma omp parallel for schedule(static) if (n > 16384)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
-      const Vec3& p = positions_[touched[static_cast<std::size_t>(i)]];
-      double* row = dst + 3 * static_cast<std::ptrdiff_t>(touched[static_cast<std::size_t>(i)].idx());
-      row[0] = p[0];
-      row[1] = p[1];
-      row[2] = p[2];
-    }
+    parallel_for(n, 8192, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+      for (std::ptrdiff_t i = lo; i < hi; ++i) {
+        const Vec3& p = positions_[touched[static_cast<std::size_t>(i)]];
+        double* row = dst + 3 * static_cast<std::ptrdiff_t>(touched[static_cast<std::size_t>(i)].idx());
+        row[0] = p[0];
+        row[1] = p[1];
+        row[2] = p[2];
+      }
+    });
   }
 
   std::shared_ptr<const Mesh> mesh_;

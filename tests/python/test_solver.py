@@ -288,9 +288,10 @@ def test_frames_never_wait_and_settle_on_the_models_solution(plane):
         t[:3, 3] = pivot - t[:3, :3] @ pivot + [0, 0, 0.2]
         state = solver.frame(out, [t])
         # New transforms: the worker cannot be there yet, so (after the first, which waits for
-        # the worker's start) this is a prediction.
-        assert state["written"] and not state["settled"] and np.isfinite(out).all()
+        # the worker's start and may find it converged already) this is a prediction.
+        assert state["written"] and np.isfinite(out).all()
         assert state["predicted"] == (angle > np.radians(7))
+        assert not state["settled"] or not state["predicted"]
         moved = rest[handle] @ t[:3, :3].T + t[:3, 3]
         assert np.abs(out[handle] - moved).max() < 1e-12
     state = solver.settle(out, [t])

@@ -5,6 +5,7 @@
 #include "freeform/bcm/bcm_system.h"
 
 #include "freeform/common/error.h"
+#include "freeform/common/parallel.h"
 #include "freeform/numerics/sparse_solver.h"
 #include "freeform/param/anisotropic.h"
 
@@ -28,18 +29,19 @@ template <int NH4, class Store>
 void kernel(int n, int n4_dynamic, const double* __restrict b, const double* __restrict c0,
             const double* __restrict g, const Store& store) {
   const int n4 = NH4 > 0 ? NH4 : n4_dynamic;
-#pragma omp parallel for schedule(static) if (n > kParallelRows)
-  for (int i = 0; i < n; ++i) {
-    const double* bi = b + static_cast<std::ptrdiff_t>(i) * n4;
-    double x = c0[3 * i], y = c0[3 * i + 1], z = c0[3 * i + 2];
+  parallel_for(n, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (int i = static_cast<int>(lo); i < static_cast<int>(hi); ++i) {
+      const double* bi = b + static_cast<std::ptrdiff_t>(i) * n4;
+      double x = c0[3 * i], y = c0[3 * i + 1], z = c0[3 * i + 2];
 #pragma omp simd reduction(+ : x, y, z)
-    for (int j = 0; j < n4; ++j) {
-      x += bi[j] * g[3 * j];
-      y += bi[j] * g[3 * j + 1];
-      z += bi[j] * g[3 * j + 2];
+      for (int j = 0; j < n4; ++j) {
+        x += bi[j] * g[3 * j];
+        y += bi[j] * g[3 * j + 1];
+        z += bi[j] * g[3 * j + 2];
+      }
+      store(i, x, y, z);
     }
-    store(i, x, y, z);
-  }
+  });
 }
 
 // The operator's positions scaled by a power of two (exact) to an extent near 1: cotangents are

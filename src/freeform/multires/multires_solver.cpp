@@ -3,11 +3,13 @@
 #include "freeform/multires/multires_solver.h"
 
 #include "freeform/common/error.h"
+#include "freeform/common/parallel.h"
 #include "freeform/mesh/traversal.h"
 #include "freeform/multires/normal_displacement.h"
 #include "freeform/multires/operator_shape.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -320,15 +322,15 @@ void MultiresSolver::update_base(std::span<const Eigen::Affine3d> transforms, Ba
   }
   const int n_handle = n_moving_ - n_free_;
   double* b = base_.data();
-#pragma omp parallel for schedule(static) if (n_handle > kParallelRows)
-  for (int k = 0; k < n_handle; ++k) {
-    const Vec3 y = transforms[static_cast<std::size_t>(handle_owner_[static_cast<std::size_t>(k)])] *
-                   handle_rest_[static_cast<std::size_t>(k)];
-    double* r = b + 3 * static_cast<std::ptrdiff_t>(n_free_ + k);
-    r[0] = y[0];
-    r[1] = y[1];
-    r[2] = y[2];
-  }
+  parallel_for(n_handle, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (auto k = static_cast<std::size_t>(lo); k < static_cast<std::size_t>(hi); ++k) {
+      const Vec3 y = transforms[static_cast<std::size_t>(handle_owner_[k])] * handle_rest_[k];
+      double* r = b + 3 * (static_cast<std::ptrdiff_t>(n_free_) + static_cast<std::ptrdiff_t>(k));
+      r[0] = y[0];
+      r[1] = y[1];
+      r[2] = y[2];
+    }
+  });
 }
 
 Vec3 MultiresSolver::base_face_normal(int f) const {
@@ -343,31 +345,33 @@ void MultiresSolver::update_normals() const {
   const int nf = static_cast<int>(normal_faces_.size());
   const int* fs = normal_faces_.data();
   const std::array<int, 3>* faces = faces_.data();
-#pragma omp parallel for schedule(static) if (nf > kParallelRows)
-  for (int k = 0; k < nf; ++k) {
-    const std::array<int, 3>& f = faces[fs[k]];
-    const Vec3 p0 = Map3(b + 3 * f[0]);
-    const Vec3 n = (Map3(b + 3 * f[1]) - p0).cross(Map3(b + 3 * f[2]) - p0);  // area weighted
-    fn[3 * k] = n[0];
-    fn[3 * k + 1] = n[1];
-    fn[3 * k + 2] = n[2];
-  }
+  parallel_for(nf, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (auto k = static_cast<int>(lo); k < static_cast<int>(hi); ++k) {
+      const std::array<int, 3>& f = faces[fs[k]];
+      const Vec3 p0 = Map3(b + 3 * f[0]);
+      const Vec3 n = (Map3(b + 3 * f[1]) - p0).cross(Map3(b + 3 * f[2]) - p0);  // area weighted
+      fn[3 * k] = n[0];
+      fn[3 * k + 1] = n[1];
+      fn[3 * k + 2] = n[2];
+    }
+  });
   double* vn = normal_.data();
   const int nv = static_cast<int>(normal_vertices_.size());
   const int* off = vf_offset_.data();
   const int* vf = vf_faces_.data();
   const int* nvs = normal_vertices_.data();
-#pragma omp parallel for schedule(static) if (nv > kParallelRows)
-  for (int k = 0; k < nv; ++k) {
-    Vec3 n = Vec3::Zero();
-    for (int j = off[k]; j < off[k + 1]; ++j) n += Map3(fn + 3 * vf[j]);
-    const double sq = n.squaredNorm();
-    if (sq > 0.0) n *= 1.0 / std::sqrt(sq);
-    double* r = vn + 3 * nvs[k];
-    r[0] = n[0];
-    r[1] = n[1];
-    r[2] = n[2];
-  }
+  parallel_for(nv, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (auto k = static_cast<int>(lo); k < static_cast<int>(hi); ++k) {
+      Vec3 n = Vec3::Zero();
+      for (int j = off[k]; j < off[k + 1]; ++j) n += Map3(fn + 3 * vf[j]);
+      const double sq = n.squaredNorm();
+      if (sq > 0.0) n *= 1.0 / std::sqrt(sq);
+      double* r = vn + 3 * nvs[k];
+      r[0] = n[0];
+      r[1] = n[1];
+      r[2] = n[2];
+    }
+  });
 }
 
 // Out of line: rare, and keeping it out of the reconstruction loop keeps that loop fast.
@@ -419,36 +423,39 @@ void MultiresSolver::add_detail(VertexData<Vec3>& positions) const {
   const int* glob = local_global_.data();
   Vec3* out = positions.raw().data();
   const int n = n_free_;
-  int flattened = 0;
-#pragma omp parallel for schedule(static) reduction(+ : flattened) if (n > kParallelRows)
-  for (int i = 0; i < n; ++i) {
-    const Code& c = codes[i];
-    const Vec3 pa = Map3(b + 3 * c.corner[0]);
-    Vec3 x;
-    if (c.corner[2] >= 0) {
-      const Vec3 pb = Map3(b + 3 * c.corner[1]), pc = Map3(b + 3 * c.corner[2]);
-      const Vec3 na = Map3(nn + 3 * c.corner[0]), nb = Map3(nn + 3 * c.corner[1]), nc = Map3(nn + 3 * c.corner[2]);
-      // The offset triangle's corners; its normal against the interpolated base normal is the
-      // cheap fold test against the rest-scaled floor (the exact test, with the current a0, is in
-      // safe_height): flatten only where the offset map nears a fold.
-      const Vec3 qa = pa + c.h * na, qb = pb + c.h * nb, qc = pc + c.h * nc;
-      if ((qa - qc).cross(qb - qc).dot(c.w[0] * na + c.w[1] * nb + c.w[2] * nc) < c.min_det) [[unlikely]] {
-        flattened += flatten_detail(i, out);
-        continue;
+  std::atomic<int> flattened{0};
+  parallel_for(n, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    int local = 0;
+    for (auto i = static_cast<int>(lo); i < static_cast<int>(hi); ++i) {
+      const Code& c = codes[i];
+      const Vec3 pa = Map3(b + 3 * c.corner[0]);
+      Vec3 x;
+      if (c.corner[2] >= 0) {
+        const Vec3 pb = Map3(b + 3 * c.corner[1]), pc = Map3(b + 3 * c.corner[2]);
+        const Vec3 na = Map3(nn + 3 * c.corner[0]), nb = Map3(nn + 3 * c.corner[1]), nc = Map3(nn + 3 * c.corner[2]);
+        // The offset triangle's corners; its normal against the interpolated base normal is the
+        // cheap fold test against the rest-scaled floor (the exact test, with the current a0, is in
+        // safe_height): flatten only where the offset map nears a fold.
+        const Vec3 qa = pa + c.h * na, qb = pb + c.h * nb, qc = pc + c.h * nc;
+        if ((qa - qc).cross(qb - qc).dot(c.w[0] * na + c.w[1] * nb + c.w[2] * nc) < c.min_det) [[unlikely]] {
+          local += flatten_detail(i, out);
+          continue;
+        }
+        x = c.w[0] * qa + c.w[1] * qb + c.w[2] * qc;
+      } else if (c.corner[1] >= 0) {
+        const Vec3 nrm = Map3(nn + 3 * c.corner[0]);
+        Vec3 e = Map3(b + 3 * c.corner[1]) - pa;
+        e -= e.dot(nrm) * nrm;
+        const double len = e.norm();
+        if (len > 0.0) e /= len;
+        x = pa + c.w[0] * e + c.w[1] * nrm.cross(e) + c.w[2] * nrm;
+      } else {
+        x = pa + Vec3(c.w[0], c.w[1], c.w[2]);
       }
-      x = c.w[0] * qa + c.w[1] * qb + c.w[2] * qc;
-    } else if (c.corner[1] >= 0) {
-      const Vec3 nrm = Map3(nn + 3 * c.corner[0]);
-      Vec3 e = Map3(b + 3 * c.corner[1]) - pa;
-      e -= e.dot(nrm) * nrm;
-      const double len = e.norm();
-      if (len > 0.0) e /= len;
-      x = pa + c.w[0] * e + c.w[1] * nrm.cross(e) + c.w[2] * nrm;
-    } else {
-      x = pa + Vec3(c.w[0], c.w[1], c.w[2]);
+      out[glob[i]] = x;
     }
-    out[glob[i]] = x;
-  }
+    flattened += local;
+  });
   for (int l = n_free_; l < n_moving_; ++l) out[glob[l]] = Map3(b + 3 * l);
   flattened_ = flattened;
   timings_.detail_ms = ms_since(t1);

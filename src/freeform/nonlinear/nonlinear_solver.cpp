@@ -1,6 +1,7 @@
 #include "freeform/nonlinear/nonlinear_solver.h"
 
 #include "freeform/common/error.h"
+#include "freeform/common/parallel.h"
 #include "freeform/nonlinear/enclosed_volume.h"
 #include "freeform/nonlinear/rotation.h"
 
@@ -28,6 +29,15 @@ constexpr double kSmoothingPerSqrtFree = 0.25;
 constexpr int kMinSmoothingRings = 8, kMaxSmoothingRings = 64;
 
 Eigen::Map<const Vec3> row(const double* p, Eigen::Index i) { return Eigen::Map<const Vec3>(p + 3 * i); }
+
+// f(i) for i in [0, n), in parallel above kParallelRows (common/parallel.h: a frame never
+// waits for a descheduled thread; the local steps run beside the editor's frames).
+template <class F>
+void parallel_rows(int n, const F& f) {
+  parallel_for(n, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (auto i = static_cast<int>(lo); i < static_cast<int>(hi); ++i) f(i);
+  });
+}
 
 // The rotation and uniform scale of an affine map's linear part: polar decomposition, scale the
 // cube root of |det| (1 where the map is singular).
@@ -178,8 +188,7 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
   }
   d.ac = d.sys->a_pc * dc;
   // Guidance: rotation vectors and log scales blended with BCM's weights.
-#pragma omp parallel for schedule(static) if (p > kParallelRows)
-  for (int i = 0; i < p; ++i) {
+  parallel_rows(p, [&](int i) {
     Vec3 w = Vec3::Zero();
     double ls = 0.0;
     for (int m = 0; m < n_movable_; ++m) {
@@ -191,7 +200,7 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
     d.q[ui] = warm ? (g * d.guide[ui].conjugate() * d.q[ui]).normalized() : g;
     d.guide[ui] = g;
     d.scale[ui] = std::exp(ls);
-  }
+  });
   if (!warm) d.x.topRows(p) = d.rest.topRows(p);
   if (linear && linear->rows() != p) throw InternalError("NonlinearSolver::start: linear rows do not match");
   if (warm && linear && d.has_linear) d.x.topRows(p) += *linear - d.linear;
@@ -213,13 +222,11 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
     // mean of its ends (ARAP's right-hand side), minus the rest's own: exactly zero at rest.
     //   A_pp (x_p - rest_p) = outer * b1 - A_pc (x_c - rest_c)
     const int n_local = static_cast<int>(d.q.size());
-#pragma omp parallel for schedule(static) if (n_local > kParallelRows)
-    for (int i = 0; i < n_local; ++i) {
+    parallel_rows(n_local, [&](int i) {
       const auto ui = static_cast<std::size_t>(i);
       d.rot[ui] = d.scale[ui] * d.q[ui].toRotationMatrix() - Eigen::Matrix3d::Identity();
-    }
-#pragma omp parallel for schedule(static) if (n_inner > kParallelRows)
-    for (int i = 0; i < n_inner; ++i) {
+    });
+    parallel_rows(n_inner, [&](int i) {
       const Eigen::Matrix3d& ri = d.rot[static_cast<std::size_t>(i)];
       Vec3 b = Vec3::Zero();
       for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator e(lap, i); e; ++e) {
@@ -233,7 +240,7 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
         b += e.value() * (0.5 * (ri + rj) * (row(d.rest.data(), e.col()) - row(d.rest.data(), i)));
       }
       d.b1.row(i) = b.transpose();
-    }
+    });
     const Eigen::MatrixXd disp = d.sys->solver.solve(d.sys->outer * d.b1 - d.ac);
     d.last = d.x.topRows(p);
     d.x.topRows(p) = d.rest.topRows(p) + disp;
@@ -276,8 +283,7 @@ void NonlinearSolver::fit_rotations() {
   const int p = n_free_;
   const double* x = d.x.data();
   const double* xr = d.rest.data();
-#pragma omp parallel for schedule(static) if (p > kParallelRows)
-  for (int i = 0; i < p; ++i) {
+  parallel_rows(p, [&](int i) {
     Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
     const Vec3 xi = row(x, i), ri = row(xr, i);
     for (int k = d.nbr_offset[static_cast<std::size_t>(i)]; k < d.nbr_offset[static_cast<std::size_t>(i) + 1]; ++k) {
@@ -285,12 +291,11 @@ void NonlinearSolver::fit_rotations() {
       s += d.nbr_w[static_cast<std::size_t>(k)] * (row(x, j) - xi) * (row(xr, j) - ri).transpose();
     }
     d.cov[static_cast<std::size_t>(i)] = s;
-  }
+  });
   // Summing the neighbours' covariances ring by ring fits R_i to a wider patch: a smoother
   // rotation field (like SR-ARAP's smoothness term), fewer iterations, less necking.
   for (int pass = 0; pass < d.smoothing_rings; ++pass) {
-#pragma omp parallel for schedule(static) if (p > kParallelRows)
-    for (int i = 0; i < p; ++i) {
+    parallel_rows(p, [&](int i) {
       const auto ui = static_cast<std::size_t>(i);
       Eigen::Matrix3d s = d.cov[ui];
       for (int k = d.nbr_offset[ui]; k < d.nbr_offset[ui + 1]; ++k) {
@@ -298,11 +303,10 @@ void NonlinearSolver::fit_rotations() {
         if (j < p) s += d.cov[static_cast<std::size_t>(j)];
       }
       d.cov2[ui] = s;
-    }
+    });
     std::swap(d.cov, d.cov2);
   }
-#pragma omp parallel for schedule(static) if (p > kParallelRows)
-  for (int i = 0; i < p; ++i) extract_rotation(d.cov[static_cast<std::size_t>(i)], d.q[static_cast<std::size_t>(i)]);
+  parallel_rows(p, [&](int i) { extract_rotation(d.cov[static_cast<std::size_t>(i)], d.q[static_cast<std::size_t>(i)]); });
 }
 
 void NonlinearSolver::solve(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out) {

@@ -1,0 +1,142 @@
+#include "freeform/common/parallel.h"
+
+#include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <cstdlib>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace freeform {
+namespace {
+
+using Body = std::function<void(std::ptrdiff_t, std::ptrdiff_t)>;
+
+int threads_from_environment() {
+  int total = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  for (const char* name : {"FREEFORM_THREADS", "OMP_NUM_THREADS"}) {
+    const char* value = std::getenv(name);
+    if (!value) continue;
+    const int n = std::atoi(value);
+    if (n > 0) return std::min(total, n);
+  }
+  return total;
+}
+
+class Pool {
+ public:
+  static Pool& get() {
+    static Pool pool;
+    return pool;
+  }
+  int workers() const { return static_cast<int>(threads_.size()); }
+
+  // False if another loop holds the pool (the caller then runs alone).
+  bool run(std::ptrdiff_t n, std::ptrdiff_t chunk, const Body& body) {
+    const std::unique_lock busy(busy_, std::try_to_lock);
+    if (!busy.owns_lock()) return false;
+    const auto chunks = static_cast<std::uint32_t>((n + chunk - 1) / chunk);
+    body_.store(&body, std::memory_order_relaxed);
+    rows_.store(n, std::memory_order_relaxed);
+    chunk_.store(chunk, std::memory_order_relaxed);
+    chunks_.store(chunks, std::memory_order_relaxed);
+    done_.store(0, std::memory_order_relaxed);
+    std::uint32_t generation = 0;
+    {
+      const std::lock_guard lock(mutex_);
+      generation = ++generation_;
+      next_.store(std::uint64_t{generation} << 32, std::memory_order_release);
+    }
+    wake_.notify_all();
+    work(generation);
+    // Only chunks a worker has taken remain: it is running them (or was preempted inside one).
+    for (std::uint32_t d = done_.load(std::memory_order_acquire); d != chunks; d = done_.load(std::memory_order_acquire))
+      done_.wait(d, std::memory_order_acquire);
+    return true;
+  }
+
+ private:
+  std::mutex busy_;   // one loop at a time
+  std::mutex mutex_;  // generation_, stop_
+  std::condition_variable wake_;
+  std::uint32_t generation_ = 0;
+  bool stop_ = false;
+  // The current loop. next_ = generation << 32 | next chunk; the other fields are read only
+  // after a chunk of that generation was taken, which keeps the loop from ending meanwhile.
+  std::atomic<std::uint64_t> next_{0};
+  std::atomic<std::uint32_t> chunks_{0}, done_{0};
+  std::atomic<const Body*> body_{nullptr};
+  std::atomic<std::ptrdiff_t> rows_{0}, chunk_{1};
+  std::vector<std::thread> threads_;
+
+  Pool() {
+    const int n = threads_from_environment() - 1;
+    for (int i = 0; i < n; ++i) threads_.emplace_back([this] { sleep_and_work(); });
+  }
+  ~Pool() {
+    {
+      const std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    for (std::thread& t : threads_) t.join();
+  }
+
+  bool take(std::uint32_t generation, std::uint32_t& chunk) {
+    std::uint64_t v = next_.load(std::memory_order_acquire);
+    for (;;) {
+      if (static_cast<std::uint32_t>(v >> 32) != generation) return false;
+      const auto index = static_cast<std::uint32_t>(v);
+      if (index >= chunks_.load(std::memory_order_relaxed)) return false;
+      if (next_.compare_exchange_weak(v, v + 1, std::memory_order_acq_rel, std::memory_order_acquire)) {
+        chunk = index;
+        return true;
+      }
+    }
+  }
+
+  void work(std::uint32_t generation) {
+    std::uint32_t c = 0;
+    while (take(generation, c)) {
+      const std::ptrdiff_t size = chunk_.load(std::memory_order_relaxed), n = rows_.load(std::memory_order_relaxed);
+      const std::ptrdiff_t begin = static_cast<std::ptrdiff_t>(c) * size;
+      (*body_.load(std::memory_order_relaxed))(begin, std::min(n, begin + size));
+      if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == chunks_.load(std::memory_order_relaxed))
+        done_.notify_all();
+    }
+  }
+
+  void sleep_and_work() {
+    std::uint32_t seen = 0;
+    std::unique_lock lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      if (stop_) return;
+      seen = generation_;
+      lock.unlock();
+      work(seen);
+      lock.lock();
+    }
+  }
+};
+
+}  // namespace
+
+int parallel_workers() { return Pool::get().workers(); }
+
+void parallel_for(std::ptrdiff_t n, std::ptrdiff_t grain, const Body& body) {
+  if (n <= 0) return;
+  grain = std::max<std::ptrdiff_t>(grain, 1);
+  Pool& pool = Pool::get();
+  if (n < 2 * grain || pool.workers() == 0) {
+    body(0, n);
+    return;
+  }
+  // About four chunks per thread: a preempted worker holds back at most a quarter of its share.
+  const std::ptrdiff_t chunk = std::max(grain, (n + 4 * (pool.workers() + 1) - 1) / (4 * (pool.workers() + 1)));
+  if (!pool.run(n, chunk, body)) body(0, n);
+}
+
+}  // namespace freeform

@@ -1,0 +1,25 @@
+// Per-frame parallel loops that never wait for a thread that is not running (issue 13). An
+// OpenMP team ends at a barrier: when another process has one of the two cores, the frame
+// waits a scheduler slice for the descheduled team member. Here the caller takes chunks from an
+// atomic counter itself, sleeping pool workers join when they get to run, and at the end the
+// caller waits only for chunks a worker has already taken (so is running or was preempted in).
+// Workers sleep on a condition variable between loops: no spinning threads are left behind.
+// One loop at a time uses the pool; a loop started while another runs (a second thread) runs
+// on its caller alone.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+
+namespace freeform {
+
+// Calls body(begin, end) over [0, n) in chunks of about `grain` rows (at least one chunk per
+// pool thread when n allows it). Below 2 * grain rows, or with one hardware thread, it is a
+// plain call body(0, n) on the caller. body must not throw.
+void parallel_for(std::ptrdiff_t n, std::ptrdiff_t grain, const std::function<void(std::ptrdiff_t, std::ptrdiff_t)>& body);
+
+// Pool threads besides the caller (hardware threads - 1, at least 0; FREEFORM_THREADS=N caps
+// the total at N).
+int parallel_workers();
+
+}  // namespace freeform

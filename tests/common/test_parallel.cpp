@@ -1,0 +1,54 @@
+// parallel_for (common/parallel.h): every index exactly once, for any size and grain, also when
+// two threads start loops at once (one of them then runs alone) and after many loops in a row
+// (generations of the pool's job slot).
+#include "freeform/common/parallel.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <thread>
+#include <vector>
+
+using freeform::parallel_for;
+
+namespace {
+
+void expect_each_index_once(std::ptrdiff_t n, std::ptrdiff_t grain) {
+  std::vector<std::atomic<int>> hits(static_cast<std::size_t>(n));
+  parallel_for(n, grain, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    ASSERT_LE(0, lo);
+    ASSERT_LT(lo, hi);
+    ASSERT_LE(hi, n);
+    for (std::ptrdiff_t i = lo; i < hi; ++i) hits[static_cast<std::size_t>(i)].fetch_add(1);
+  });
+  for (std::ptrdiff_t i = 0; i < n; ++i) ASSERT_EQ(hits[static_cast<std::size_t>(i)].load(), 1) << "n " << n << " i " << i;
+}
+
+}  // namespace
+
+TEST(ParallelFor, EveryIndexExactlyOnce) {
+  for (std::ptrdiff_t n : {0, 1, 7, 100, 4095, 4096, 4097, 100000})
+    for (std::ptrdiff_t grain : {1, 64, 2048, 1000000}) expect_each_index_once(n, grain);
+  EXPECT_GE(freeform::parallel_workers(), 0);
+}
+
+TEST(ParallelFor, ManyLoopsInARowAndFromTwoThreadsAtOnce) {
+  for (int round = 0; round < 2000; ++round) expect_each_index_once(5000 + round % 7, 100);
+  std::thread other([] {
+    for (int round = 0; round < 500; ++round) expect_each_index_once(20000, 50);
+  });
+  for (int round = 0; round < 500; ++round) expect_each_index_once(30000, 70);
+  other.join();
+}
+
+// A sum as the editor's reductions do it: a local per chunk, one atomic add per chunk.
+TEST(ParallelFor, ChunkReductionsAddUp) {
+  std::atomic<long long> sum{0};
+  const std::ptrdiff_t n = 1 << 20;
+  parallel_for(n, 1000, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    long long local = 0;
+    for (std::ptrdiff_t i = lo; i < hi; ++i) local += i;
+    sum += local;
+  });
+  EXPECT_EQ(sum.load(), static_cast<long long>(n) * (n - 1) / 2);
+}
