@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <cstdlib>
@@ -13,6 +14,7 @@ namespace freeform {
 namespace {
 
 using Body = std::function<void(std::ptrdiff_t, std::ptrdiff_t)>;
+constexpr std::chrono::microseconds kSpin{50};
 
 int threads_from_environment() {
   int total = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -44,12 +46,15 @@ class Pool {
     chunks_.store(chunks, std::memory_order_relaxed);
     done_.store(0, std::memory_order_relaxed);
     std::uint32_t generation = 0;
+    bool sleeping = false;
     {
       const std::lock_guard lock(mutex_);
       generation = ++generation_;
       next_.store(std::uint64_t{generation} << 32, std::memory_order_release);
+      published_.store(generation, std::memory_order_release);
+      sleeping = sleepers_ > 0;
     }
-    wake_.notify_all();
+    if (sleeping) wake_.notify_all();
     work(generation);
     // Only chunks a worker has taken remain: it is running them (or was preempted inside one).
     for (std::uint32_t d = done_.load(std::memory_order_acquire); d != chunks; d = done_.load(std::memory_order_acquire))
@@ -62,7 +67,9 @@ class Pool {
   std::mutex mutex_;  // generation_, stop_
   std::condition_variable wake_;
   std::uint32_t generation_ = 0;
+  int sleepers_ = 0;  // workers waiting on wake_
   bool stop_ = false;
+  std::atomic<std::uint32_t> published_{0};  // generation_, read by spinning workers
   // The current loop. next_ = generation << 32 | next chunk; the other fields are read only
   // after a chunk of that generation was taken, which keeps the loop from ending meanwhile.
   std::atomic<std::uint64_t> next_{0};
@@ -108,16 +115,28 @@ class Pool {
     }
   }
 
+  // After a loop a worker polls for the next one for kSpin (a frame runs several loops back to
+  // back: waking a sleeping thread costs more than a short loop), then sleeps.
   void sleep_and_work() {
     std::uint32_t seen = 0;
-    std::unique_lock lock(mutex_);
     for (;;) {
-      wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
-      if (stop_) return;
-      seen = generation_;
-      lock.unlock();
+      const auto until = std::chrono::steady_clock::now() + kSpin;
+      std::uint32_t now = published_.load(std::memory_order_acquire);
+      for (int i = 0; now == seen; ++i) {
+        if (i % 64 == 63 && std::chrono::steady_clock::now() > until) break;
+        std::this_thread::yield();
+        now = published_.load(std::memory_order_acquire);
+      }
+      if (now == seen) {
+        std::unique_lock lock(mutex_);
+        ++sleepers_;
+        wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+        --sleepers_;
+        if (stop_) return;
+        now = generation_;
+      }
+      seen = now;
       work(seen);
-      lock.lock();
     }
   }
 };
