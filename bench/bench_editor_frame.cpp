@@ -23,9 +23,13 @@
 #include "viewer/renderer.h"
 
 #include <GL/gl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -39,6 +43,13 @@ namespace {
 using namespace freeform;
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+// Nearest-rank percentile (q in (0, 1]).
+double percentile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
+  return v[std::min(v.size(), std::max<std::size_t>(rank, 1)) - 1];
+}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -184,20 +195,56 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
             {"whole_mesh_interactive_frame", median(full_frame)}}},
           {"patch_upload_vertices", patch.range_vertices()},
           {"patch_ranges", patch.ranges().size()},
+          {"p99_ms", {{"evaluate", percentile(evaluate, 0.99)}, {"update_display", percentile(update, 0.99)},
+                      {"interactive_frame", percentile(frame, 0.99)}}},
           {"max_ms", {{"interactive_frame", *std::max_element(frame.begin(), frame.end())}}}};
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  // bench_editor_frame [frames] [nonlinear]: the second runs the nonlinear model on a rotating drag.
+  // bench_editor_frame [frames] [nonlinear] [busy]: `nonlinear` runs the nonlinear model on a
+  // rotating drag; `busy` keeps one core busy meanwhile with a spinning child process (a user's
+  // machine is never idle; forked before any thread exists).
   const int frames = argc > 1 ? std::max(5, std::atoi(argv[1])) : 60;
-  const bool nonlinear = argc > 2 && std::string(argv[2]) == "nonlinear";
+  bool nonlinear = false, busy = false;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "nonlinear") nonlinear = true;
+    else if (a == "busy") busy = true;
+    else {
+      std::cerr << "bench_editor_frame: unknown argument '" << a << "' (expected nonlinear or busy)\n";
+      return 2;
+    }
+  }
+  pid_t spinner = -1;
+  if (busy) {
+    spinner = fork();
+    if (spinner == 0) {
+      std::atomic<unsigned long> spin{0};
+      for (;;) spin.fetch_add(1, std::memory_order_relaxed);
+    }
+    if (spinner < 0) {
+      std::cerr << "bench_editor_frame: cannot start the busy process\n";
+      return 1;
+    }
+  }
+  const auto stop_spinner = [&] {
+    if (spinner > 0) {
+      kill(spinner, SIGKILL);
+      waitpid(spinner, nullptr, 0);
+    }
+  };
   try {
     nlohmann::json out = nlohmann::json::array();
-    for (const char* name : {"armadillo.off", "bunny00.off"}) out.push_back(run(name, frames, 1280, 800, 4, nonlinear));
+    for (const char* name : {"armadillo.off", "bunny00.off"}) {
+      out.push_back(run(name, frames, 1280, 800, 4, nonlinear));
+      out.back()["one_core_busy"] = busy;
+    }
+    stop_spinner();
     std::cout << out.dump(2) << "\n";
   } catch (const std::exception& e) {
+    stop_spinner();
     std::cerr << "bench_editor_frame: " << e.what() << "\n";
     return 1;
   }
