@@ -13,7 +13,6 @@
 namespace freeform {
 namespace {
 
-using Body = std::function<void(std::ptrdiff_t, std::ptrdiff_t)>;
 constexpr std::chrono::microseconds kSpin{50};
 
 int threads_from_environment() {
@@ -36,11 +35,12 @@ class Pool {
   int workers() const { return static_cast<int>(threads_.size()); }
 
   // False if another loop holds the pool (the caller then runs alone).
-  bool run(std::ptrdiff_t n, std::ptrdiff_t chunk, const Body& body) {
+  bool run(std::ptrdiff_t n, std::ptrdiff_t chunk, ParallelBody body) {
     const std::unique_lock busy(busy_, std::try_to_lock);
     if (!busy.owns_lock()) return false;
     const auto chunks = static_cast<std::uint32_t>((n + chunk - 1) / chunk);
-    body_.store(&body, std::memory_order_relaxed);
+    body_.store(body.object, std::memory_order_relaxed);
+    call_.store(body.call, std::memory_order_relaxed);
     rows_.store(n, std::memory_order_relaxed);
     chunk_.store(chunk, std::memory_order_relaxed);
     chunks_.store(chunks, std::memory_order_relaxed);
@@ -74,7 +74,8 @@ class Pool {
   // after a chunk of that generation was taken, which keeps the loop from ending meanwhile.
   std::atomic<std::uint64_t> next_{0};
   std::atomic<std::uint32_t> chunks_{0}, done_{0};
-  std::atomic<const Body*> body_{nullptr};
+  std::atomic<const void*> body_{nullptr};
+  std::atomic<void (*)(const void*, std::ptrdiff_t, std::ptrdiff_t)> call_{nullptr};
   std::atomic<std::ptrdiff_t> rows_{0}, chunk_{1};
   std::vector<std::thread> threads_;
 
@@ -109,7 +110,7 @@ class Pool {
     while (take(generation, c)) {
       const std::ptrdiff_t size = chunk_.load(std::memory_order_relaxed), n = rows_.load(std::memory_order_relaxed);
       const std::ptrdiff_t begin = static_cast<std::ptrdiff_t>(c) * size;
-      (*body_.load(std::memory_order_relaxed))(begin, std::min(n, begin + size));
+      call_.load(std::memory_order_relaxed)(body_.load(std::memory_order_relaxed), begin, std::min(n, begin + size));
       if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == chunks_.load(std::memory_order_relaxed))
         done_.notify_all();
     }
@@ -145,17 +146,17 @@ class Pool {
 
 int parallel_workers() { return Pool::get().workers(); }
 
-void parallel_for(std::ptrdiff_t n, std::ptrdiff_t grain, const Body& body) {
+void parallel_for(std::ptrdiff_t n, std::ptrdiff_t grain, ParallelBody body) {
   if (n <= 0) return;
   grain = std::max<std::ptrdiff_t>(grain, 1);
   Pool& pool = Pool::get();
   if (n < 2 * grain || pool.workers() == 0) {
-    body(0, n);
+    body.call(body.object, 0, n);
     return;
   }
   // About four chunks per thread: a preempted worker holds back at most a quarter of its share.
   const std::ptrdiff_t chunk = std::max(grain, (n + 4 * (pool.workers() + 1) - 1) / (4 * (pool.workers() + 1)));
-  if (!pool.run(n, chunk, body)) body(0, n);
+  if (!pool.run(n, chunk, body)) body.call(body.object, 0, n);
 }
 
 }  // namespace freeform

@@ -9,14 +9,26 @@
 #pragma once
 
 #include <cstddef>
-#include <functional>
 
 namespace freeform {
 
+// The body as a pointer and a plain function: a std::function of a lambda with more than two
+// captures allocates, once per loop of every frame.
+struct ParallelBody {
+  const void* object;
+  void (*call)(const void* object, std::ptrdiff_t begin, std::ptrdiff_t end);
+};
+void parallel_for(std::ptrdiff_t n, std::ptrdiff_t grain, ParallelBody body);
+
 // Calls body(begin, end) over [0, n) in chunks of about `grain` rows (at least one chunk per
 // pool thread when n allows it). Below 2 * grain rows, or with one hardware thread, it is a
-// plain call body(0, n) on the caller. body must not throw.
-void parallel_for(std::ptrdiff_t n, std::ptrdiff_t grain, const std::function<void(std::ptrdiff_t, std::ptrdiff_t)>& body);
+// plain call body(0, n) on the caller. body must not throw. No allocation.
+template <class F>
+void parallel_for(std::ptrdiff_t n, std::ptrdiff_t grain, const F& body) {
+  parallel_for(n, grain, ParallelBody{&body, [](const void* f, std::ptrdiff_t begin, std::ptrdiff_t end) {
+                                        (*static_cast<const F*>(f))(begin, end);
+                                      }});
+}
 
 // Pool threads besides the caller (hardware threads - 1, at least 0; FREEFORM_THREADS=N caps
 // the total at N).

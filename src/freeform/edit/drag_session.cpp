@@ -12,6 +12,13 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
+bool same_transforms(std::span<const Eigen::Affine3d> a, std::span<const Eigen::Affine3d> b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i].matrix() != b[i].matrix()) return false;
+  return true;
+}
+
 }  // namespace
 
 DragSession::DragSession(const EditSolver& solver) : solver_(solver), model_(solver.nonlinear()) {
@@ -26,13 +33,6 @@ DragSession::~DragSession() {
   }
   wake_.notify_all();
   if (worker_.joinable()) worker_.join();
-}
-
-bool DragSession::same_transforms(std::span<const Eigen::Affine3d> a, std::span<const Eigen::Affine3d> b) const {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (a[i].matrix() != b[i].matrix()) return false;
-  return true;
 }
 
 DragFrame DragSession::frame(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) {
@@ -57,7 +57,8 @@ DragFrame DragSession::frame(std::span<const Eigen::Affine3d> transforms, Vertex
   }
   std::unique_lock lock(mutex_);
   if (changed) {
-    pending_.emplace(transforms.begin(), transforms.end());
+    pending_.assign(transforms.begin(), transforms.end());
+    has_pending_ = true;
     interrupt_ = true;
     wake_.notify_all();
   }
@@ -120,12 +121,12 @@ void DragSession::run() {
   RowMatrixX3d linear(model_->n_free(), 3);
   bool warm = false, settled = true;
   for (;;) {
-    wake_.wait(lock, [&] { return stop_ || pending_ || !settled; });
+    wake_.wait(lock, [&] { return stop_ || has_pending_ || !settled; });
     if (stop_) return;
-    const bool restart = pending_.has_value();
+    const bool restart = has_pending_;
     if (restart) {
-      current = std::move(*pending_);
-      pending_.reset();
+      current.swap(pending_);
+      has_pending_ = false;
       interrupt_ = false;
     }
     lock.unlock();

@@ -71,8 +71,10 @@ class DragSession {
   mutable std::mutex mutex_;
   std::condition_variable wake_;     // worker: new transforms, stop, or settled changed
   std::condition_variable settled_;  // finish(): the published iterate settled
-  std::optional<std::vector<Eigen::Affine3d>> pending_;
-  std::atomic<bool> interrupt_{false};  // pending_ set: end the current iteration early
+  // New transforms for the worker; swapped with its own, so no frame allocates.
+  std::vector<Eigen::Affine3d> pending_;
+  bool has_pending_ = false;
+  std::atomic<bool> interrupt_{false};  // has_pending_: end the current iteration early
   bool stop_ = false;
   Iterate front_;  // published (mutex_)
   Iterate back_;   // the worker's
@@ -81,7 +83,6 @@ class DragSession {
   std::thread worker_;
 
   void run();
-  bool same_transforms(std::span<const Eigen::Affine3d> a, std::span<const Eigen::Affine3d> b) const;
   DragFrame show(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
                  std::unique_lock<std::mutex>& lock);
 };

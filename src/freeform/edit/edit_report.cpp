@@ -23,7 +23,7 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
                 {"flipped_triangles", problems.detail.flipped},
                 {"overlaps", problems.detail.overlaps}};
   Json nonlinear = nullptr;
-  if (const NonlinearState* ns = solver.nonlinear_state() ? (state ? state : solver.nonlinear_state()) : nullptr)
+  if (const NonlinearState* ns = solver.nonlinear_state() && state ? state : solver.nonlinear_state())
     nonlinear = {{"iterations", ns->iterations},
                  {"residual", ns->step},
                  {"converged", ns->converged},
