@@ -139,11 +139,6 @@ class Session:
             self.show(obj, self.transforms)
         return state["settled"]
 
-    def settle(self, obj):
-        """Waits for the converged shape of the current transforms and shows it."""
-        self.solver.settle(self.out, self.transform_list())
-        self.show(obj, self.transforms)
-
     def show(self, obj, transforms):
         mesh_data.write_positions(obj, self.out, None if self.write_all else self.solver.touched)
         self.write_all = False

@@ -207,10 +207,10 @@ class FREEFORM_OT_transform(bpy.types.Operator):
         elif not pressed:
             return {'RUNNING_MODAL'}
         elif t in ('LEFTMOUSE', 'RET', 'NUMPAD_ENTER'):
-            if not self.converged:  # the undo step holds the converged shape
-                self.session.settle(context.active_object)
-                self.converged = True
-            self.session.remember()
+            # The undo step holds the model's solution solved from scratch: the same shape as
+            # `freeform deform` of the edit, whatever path the drag's iterations took.
+            self.session.write(context.active_object, self.session.transforms)
+            self.converged = True
             self.finish(context)
             return {'FINISHED'}
         elif t in ('RIGHTMOUSE', 'ESC'):
