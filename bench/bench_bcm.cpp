@@ -163,6 +163,31 @@ void BM_BcmEvaluate(benchmark::State& state) {
   state.counters["free"] = solver.regions().n_free();
 }
 
+// The peer (issue 13): the same basis product written plainly with Eigen, as a libigl user
+// writes it (igl::arap-style X = X0 + B * G with column-major dense B), on our solver's basis.
+void BM_EigenPlainEvaluate(benchmark::State& state) {
+  const int free_count = static_cast<int>(state.range(0)) * 1000;
+  auto& cache = solver_cache();
+  auto it = cache.find({free_count, 3, false});
+  if (it == cache.end())
+    it = cache.emplace(std::make_tuple(free_count, 3, false),
+                       std::make_unique<EditSolver>(bench_mesh().mesh, edit_for(free_count, 3, false))).first;
+  const BcmSolver& bcm = it->second->bcm();
+  const Eigen::MatrixXd basis = bcm.basis();
+  const Eigen::MatrixXd x0 = bcm.constant_part();
+  Eigen::MatrixXd g(4, 3), x(basis.rows(), 3);
+  int frame = 0;
+  for (auto _ : state) {
+    const double angle = 0.001 * (++frame % 100);
+    const Eigen::Affine3d t(Eigen::AngleAxisd(angle, Vec3::UnitX()));
+    for (int j = 0; j < 4; ++j) g.row(j) = (t * bcm.frame(0)[static_cast<std::size_t>(j)]).transpose();
+    x.noalias() = x0 + basis * g;
+    benchmark::DoNotOptimize(x.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["free"] = static_cast<double>(basis.rows());
+}
+
 // Precompute: every k at the small and middle sizes (3 repetitions up to 35k, 1 beyond), k = 3
 // only at 140k and 300k.
 void precompute_small(benchmark::internal::Benchmark* b) {
@@ -182,6 +207,8 @@ BENCHMARK(BM_BcmPrecompute)->Apply(precompute_large)->ArgNames({"kfree", "k", "b
     ->Repetitions(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_BcmEvaluate)->ArgsProduct({{10, 35, 100, 140, 300}, {3}, {0}})->ArgNames({"kfree", "k", "blended"})
     ->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_EigenPlainEvaluate)->Arg(35)->Arg(140)->Arg(300)->ArgNames({"kfree"})->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
 
 #ifdef FREEFORM_HAVE_CGAL
 using Kernel = CGAL::Simple_cartesian<double>;

@@ -129,6 +129,12 @@ void run(const DeformOptions& opt) {
                  "tolerance {:.2g}); raise \"nonlinear\": {{\"max_iterations\"}} in the edit file\n",
                  ns->iterations, ns->step, edit.nonlinear.tolerance);
   }
+  if (st.forward_error > kForwardErrorWarning)
+    fmt::print(stderr,
+               "warning: the solve's estimated error is {:.2g} of the bounding-box diagonal (refinement: {} steps, {}); "
+               "the support is too large for an accurate order-{} solve: use a smaller support or a lower order\n",
+               st.forward_error, st.refinement_steps, st.refinement_converged ? "converged" : "did not converge",
+               edit.settings.order);
   if (st.degenerate_faces > 0 || st.clamped_cotangents > 0)
     fmt::print(stderr,
                "warning: {} degenerate triangles (no stiffness) and {} clamped cotangents (needle-thin triangles) in "

@@ -262,6 +262,12 @@ void App::panel_parameters() {
       // a drag (O(support) per check), the last count stays.
       if (!tools_.transforming()) shown_problems_ = doc_.display_problems();
       if (shown_problems_) problems_line(*shown_problems_);
+      if (const BcmStats& bcm = doc_.solver()->solver().stats().bcm; bcm.forward_error > kForwardErrorWarning) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.65f, 0.3f, 1.0f));
+        ImGui::TextWrapped("inaccurate solve: estimated error %.1e of the mesh's size; use a smaller support or a lower order",
+                           bcm.forward_error);
+        ImGui::PopStyleColor();
+      }
       if (doc_.solver()->solver().stats().deformation == Deformation::Nonlinear) {
         // Its own wrapped line: the panel is narrower than the status with its suffix.
         const FrameTimings& f = doc_.last_timings();

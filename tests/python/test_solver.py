@@ -66,6 +66,9 @@ def test_stats_and_problems(solver):
     assert stats["counts"]["handles"] == [{"vertices": 5, "movable": True}, {"vertices": 1, "movable": False}]
     assert stats["counts"]["free"] + stats["counts"]["fixed"] + 6 == 169
     assert stats["timings_ms"]["evaluate"] >= 0 and stats["multiresolution"]["normal_encoded"] >= 0
+    # A small support: refinement against the unassembled operator converges at once.
+    assert stats["refinement"]["converged"] is True and stats["refinement"]["steps"] >= 1
+    assert 0 <= stats["forward_error"] < 1e-12
     assert solver.problems() == {"ok": True, "non_finite": 0, "first_non_finite": None, "folded_edges": 0,
                                  "flipped_triangles": 0, "overlaps": 0}
     solver.evaluate([translation(0, 0, 2.0)])  # pulled far out of the plane: the frame folds

@@ -25,13 +25,24 @@
 
 namespace freeform {
 
+// Above this forward-error estimate (relative to the bounding-box diagonal) the CLI and the
+// editor warn.
+constexpr double kForwardErrorWarning = 1e-6;
+
 struct BcmStats {
   std::string solver;      // SparseSolver::name()
   bool symmetric = false;
   int free = 0;            // P
   int constrained = 0;     // C: constrained vertices in the system
-  double assembly_ms = 0, factorization_ms = 0, basis_ms = 0;
+  double assembly_ms = 0, factorization_ms = 0, basis_ms = 0;  // basis: the first solve
   double residual = 0;     // max over right-hand sides of |A_pp X - B| / |B| (relative)
+  // Iterative refinement against the unassembled operator (bcm/refinement.h): steps, whether
+  // it met its tolerance, and the forward-error estimate it leaves (the last correction, as a
+  // position error at the rest transforms, relative to the mesh's bounding-box diagonal).
+  int refinement_steps = 0;
+  bool refinement_converged = false;
+  double forward_error = 0;
+  double refinement_ms = 0;
   // DESIGN.md section 2 diagnostics of the assembled faces: degenerate ones (no weights, no
   // area) and cotangents clamped on needle-thin ones.
   int degenerate_faces = 0;
@@ -76,10 +87,11 @@ class BcmSolver {
 
   // Positions of the free vertices (P x 3, row i = free_vertices()[i]) for one affine map per
   // movable handle (transforms.size() == n_movable(), T_m applied to the rest frame).
-  // No allocation; parallel over rows (OpenMP, static schedule). out must be P x 3.
+  // No allocation; parallel over rows (common/parallel.h), AVX2 where the CPU has it.
+  // out must be P x 3.
   // Throws InvalidInput on a wrong count, wrong out size or a non-finite transform.
   // Thread safety: concurrent calls on one solver are safe for up to kStackHandles movable
-  // handles (the 4M x 3 frame matrix lives on the stack); with more, a preallocated member is
+  // handles (the 4M x 4 padded frame matrix lives on the stack); with more, a preallocated member is
   // used and evaluate() must not be called concurrently on the same solver.
   void evaluate(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out) const;
   // Writes the free and movable-handle vertices of `positions` (#V entries; handle vertices
@@ -110,7 +122,7 @@ class BcmSolver {
   std::vector<Vec3> handle_rest_;
   int n_vertices_ = 0;
   std::unique_ptr<BcmFactoredSystem> system_;
-  mutable std::vector<double> scratch_;  // 12 M doubles, only if M > kStackHandles (see evaluate)
+  mutable std::vector<double> scratch_;  // 16 M doubles (G padded to 4 lanes), only if M > kStackHandles (see evaluate)
 
   const double* frame_matrix(std::span<const Eigen::Affine3d> transforms, double* stack_buffer) const;
   template <class Store>

@@ -305,12 +305,16 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
   for (int i = 0; i < n_inner; ++i) sys.zero_area_vertices += area[i] >= area_floor ? 0 : 1;
 
   // Y_{m+1} = L Lam_m D Y_m for m = 1 .. k-1 (rows shrink ring by ring, the free rows last).
+  for (int m = 1; m <= k - 1; ++m) {
+    Eigen::VectorXd& w = sys.level_weights.emplace_back(Eigen::VectorXd::Zero(n_loc));
+    for (int i = 0; i < n_inner; ++i)
+      w[i] = smoothness_lambda(c[static_cast<std::size_t>(i)], m) / (2.0 * std::max(area[i], area_floor));
+  }
+  for (int r = 0; r <= k; ++r) sys.ring_rows.push_back(row_count(p, r));
   auto apply_levels = [&](const Csr& first, Csr& out) -> const Csr& {
     const Csr* rows = &first;
     for (int m = 1; m <= k - 1; ++m) {
-      Eigen::VectorXd w = Eigen::VectorXd::Zero(n_loc);
-      for (int i = 0; i < n_inner; ++i)
-        w[i] = smoothness_lambda(c[static_cast<std::size_t>(i)], m) / (2.0 * std::max(area[i], area_floor));
+      const Eigen::VectorXd& w = sys.level_weights[static_cast<std::size_t>(m - 1)];
       out = scaled_product(lap, w, *rows, m == k - 1 ? n_free : row_count(p, k - 1 - m));
       rows = &out;
     }
@@ -335,8 +339,8 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
     top.rows = n_free;
     top.outer.resize(static_cast<std::size_t>(n_free) + 1);
     sys.outer = column_block(top, 0, n_inner, sign);
-    sys.lap = column_block(lap, 0, n_loc, 1.0);
   }
+  sys.lap = column_block(lap, 0, n_loc, 1.0);
   sys.a_pp = column_block(*s_rows, 0, n_free, sign);
   sys.a_pc = column_block(*s_rows, n_free, n_loc, sign);
   sys.constrained.assign(p.order.begin() + n_free, p.order.end());

@@ -27,12 +27,17 @@ struct BcmSystem {
   std::vector<int> degenerate_examples;  // the first few of them (face indices), for messages
   int clamped_cotangents = 0;
   int zero_area_vertices = 0;        // rows whose area was floored (as in mixed_voronoi_areas)
-  // With split_operator (the nonlinear model): S_k = outer * lap. lap: the cotangent Laplacian
+  // S_k = outer * lap. lap: the cotangent Laplacian
   // rows of the (k-1)-ring (free first, then constrained, as in `constrained`) over the whole
-  // patch (free, then constrained columns); outer: P by those rows, sign included, so that
-  // [a_pp a_pc] = outer * lap. k = 1: outer = -I.
+  // patch (free, then constrained columns); outer (only with split_operator, the nonlinear
+  // model): P by those rows, sign included, so that [a_pp a_pc] = outer * lap. k = 1: -I.
   Eigen::SparseMatrix<double, Eigen::RowMajor> lap;
   Eigen::SparseMatrix<double> outer;
+  // The unassembled factors, for the mixed form (bcm/mixed_system.h): lap (always filled) and
+  // the diagonal weights Lam_m D of levels m = 1 .. k-1 on the (k-1)-ring rows. ring_rows[r]:
+  // patch vertices within r rings of the free set (r = 0 .. k; the patch is ordered by ring).
+  std::vector<Eigen::VectorXd> level_weights;
+  std::vector<int> ring_rows;
 };
 
 // Cost: O(size of the k-ring of the free set) plus O(#V + #F) for index arrays. Cotangents

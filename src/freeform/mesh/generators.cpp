@@ -5,11 +5,14 @@
 
 #include "freeform/common/error.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <numbers>
 #include <string>
+#include <unordered_map>
 #include <utility>
 
 namespace freeform {
@@ -247,6 +250,28 @@ TriangleSoup make_bumpy_plane(int nx, int ny, double amplitude, double frequency
         amplitude * std::sin(2.0 * kPi * frequency * v.x() / width) * std::sin(2.0 * kPi * frequency * v.y() / height);
   }
   return soup;
+}
+
+TriangleSoup subdivide_midpoint(const TriangleSoup& in) {
+  TriangleSoup out;
+  out.positions = in.positions;
+  out.faces.reserve(in.faces.size() * 4);
+  std::unordered_map<std::uint64_t, int> midpoint;
+  midpoint.reserve(in.faces.size() * 2);
+  auto mid = [&](int a, int b) {
+    const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
+    auto [it, inserted] = midpoint.try_emplace(key, static_cast<int>(out.positions.size()));
+    if (inserted) out.positions.push_back(0.5 * (in.positions[static_cast<std::size_t>(a)] + in.positions[static_cast<std::size_t>(b)]));
+    return it->second;
+  };
+  for (const Tri& t : in.faces) {
+    const int ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
+    out.faces.push_back({t[0], ab, ca});
+    out.faces.push_back({t[1], bc, ab});
+    out.faces.push_back({t[2], ca, bc});
+    out.faces.push_back({ab, bc, ca});
+  }
+  return out;
 }
 
 }  // namespace freeform

@@ -30,4 +30,8 @@ TriangleSoup make_cylinder(int rings, int segments, double radius = 1.0, double 
 TriangleSoup make_bumpy_plane(int nx, int ny, double amplitude, double frequency, double width = 1.0,
                               double height = 1.0);
 
+// Each triangle into four through its edge midpoints (positions not smoothed): large meshes
+// from real ones (benchmarks, the accuracy tests). 4x the faces.
+TriangleSoup subdivide_midpoint(const TriangleSoup& in);
+
 }  // namespace freeform

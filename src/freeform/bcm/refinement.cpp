@@ -1,0 +1,92 @@
+#include "freeform/bcm/refinement.h"
+
+#include "freeform/common/error.h"
+#include "freeform/common/parallel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace freeform {
+namespace {
+
+using Ld = long double;
+using RowSp = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+// next(r, :) = sum_c lap(r, c) w(c) z(c, :) for rows [0, rows), row-major d columns.
+void level_product(const RowSp& lap, const double* w, const std::vector<Ld>& z, int rows, int d, std::vector<Ld>& next) {
+  next.assign(static_cast<std::size_t>(rows) * static_cast<std::size_t>(d), 0.0L);
+  parallel_for(rows, 1024, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (auto r = static_cast<int>(lo); r < hi; ++r) {
+      Ld* out = next.data() + static_cast<std::ptrdiff_t>(r) * d;
+      for (RowSp::InnerIterator it(lap, r); it; ++it) {
+        const auto c = static_cast<std::ptrdiff_t>(it.col());
+        const Ld f = static_cast<Ld>(it.value()) * (w ? static_cast<Ld>(w[c]) : 1.0L);
+        const Ld* zc = z.data() + c * d;
+        for (int j = 0; j < d; ++j) out[j] += f * zc[j];
+      }
+    }
+  });
+}
+
+}  // namespace
+
+Refinement refine_bcm_solution(const BcmSystem& sys, const SparseSolver& solver, const Eigen::MatrixXd& xc,
+                               Eigen::MatrixXd& x, double rel_tol, int max_steps) {
+  const int k = static_cast<int>(sys.level_weights.size()) + 1;
+  const int n_free = static_cast<int>(x.rows());
+  const int n_c = static_cast<int>(xc.rows());
+  const int d = static_cast<int>(x.cols());
+  if (sys.ring_rows.size() != static_cast<std::size_t>(k) + 1 || sys.ring_rows[0] != n_free ||
+      sys.lap.cols() != n_free + n_c || xc.cols() != d)
+    throw InvalidInput("refine_bcm_solution: the solution does not match the system's sizes");
+  const double sign = k % 2 == 1 ? -1.0 : 1.0;  // A = sign * S_k
+
+  // z: the patch's values (free rows from x, then the constrained ones), row-major, long double.
+  std::vector<Ld> z(static_cast<std::size_t>(n_free + n_c) * static_cast<std::size_t>(d)), next;
+  for (int i = 0; i < n_c; ++i)
+    for (int j = 0; j < d; ++j) z[static_cast<std::size_t>(n_free + i) * d + j] = xc(i, j);
+  std::vector<Ld> xl(static_cast<std::size_t>(n_free) * static_cast<std::size_t>(d));
+  for (int i = 0; i < n_free; ++i)
+    for (int j = 0; j < d; ++j) xl[static_cast<std::size_t>(i) * d + j] = x(i, j);
+
+  Eigen::VectorXd scale = x.cwiseAbs().colwise().maxCoeff().transpose();
+  for (Eigen::Index j = 0; j < scale.size(); ++j)
+    if (!(scale[j] > 0.0)) scale[j] = 1.0;
+  Refinement out;
+  out.correction = Eigen::VectorXd::Zero(d);
+  double previous = HUGE_VAL;
+  Eigen::MatrixXd r(n_free, d);
+  std::vector<Ld> level;
+  for (int step = 0; step < max_steps; ++step) {
+    std::copy(xl.begin(), xl.end(), z.begin());
+    // S_k [x; xc] level by level: rows shrink ring by ring down to the free set.
+    const std::vector<Ld>* cur = &z;
+    for (int m = 1; m <= k; ++m) {
+      const double* w = m == 1 ? nullptr : sys.level_weights[static_cast<std::size_t>(m - 2)].data();
+      level_product(sys.lap, w, *cur, sys.ring_rows[static_cast<std::size_t>(k - m)], d, m % 2 ? next : level);
+      cur = m % 2 ? &next : &level;
+    }
+    for (int i = 0; i < n_free; ++i)
+      for (int j = 0; j < d; ++j) r(i, j) = static_cast<double>(-sign * (*cur)[static_cast<std::size_t>(i) * d + j]);
+    const Eigen::MatrixXd dx = solver.solve(r, false);
+    const Eigen::VectorXd size = dx.cwiseAbs().colwise().maxCoeff().transpose();
+    const double worst = size.cwiseQuotient(scale).maxCoeff();
+    if (!(worst <= previous)) break;  // diverging (or not finite): keep the last iterate
+    for (int i = 0; i < n_free; ++i)
+      for (int j = 0; j < d; ++j) xl[static_cast<std::size_t>(i) * d + j] += dx(i, j);
+    ++out.steps;
+    out.correction = size;
+    if (worst <= rel_tol) {
+      out.converged = true;
+      break;
+    }
+    if (worst > 0.5 * previous) break;  // stagnating at the residual's own rounding, or diverging
+    previous = worst;
+  }
+  for (int i = 0; i < n_free; ++i)
+    for (int j = 0; j < d; ++j) x(i, j) = static_cast<double>(xl[static_cast<std::size_t>(i) * d + j]);
+  return out;
+}
+
+}  // namespace freeform
