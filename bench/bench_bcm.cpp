@@ -38,6 +38,9 @@
 #include <CGAL/Surface_mesh_deformation.h>
 #endif
 
+void eigen_plain_product(const double* x0, const double* basis, const double* g, double* x, long rows,
+                         long n4);  // bench/peer_product.cpp (column-major)
+
 namespace {
 
 using namespace freeform;
@@ -164,7 +167,8 @@ void BM_BcmEvaluate(benchmark::State& state) {
 }
 
 // The peer (issue 13): the same basis product written plainly with Eigen, as a libigl user
-// writes it (igl::arap-style X = X0 + B * G with column-major dense B), on our solver's basis.
+// writes it (X = X0 + B * G with column-major dense B; bench/peer_product.cpp, -march=native),
+// on our solver's basis.
 void BM_EigenPlainEvaluate(benchmark::State& state) {
   const int free_count = static_cast<int>(state.range(0)) * 1000;
   auto& cache = solver_cache();
@@ -181,11 +185,32 @@ void BM_EigenPlainEvaluate(benchmark::State& state) {
     const double angle = 0.001 * (++frame % 100);
     const Eigen::Affine3d t(Eigen::AngleAxisd(angle, Vec3::UnitX()));
     for (int j = 0; j < 4; ++j) g.row(j) = (t * bcm.frame(0)[static_cast<std::size_t>(j)]).transpose();
-    x.noalias() = x0 + basis * g;
+    eigen_plain_product(x0.data(), basis.data(), g.data(), x.data(), basis.rows(), basis.cols());
     benchmark::DoNotOptimize(x.data());
     benchmark::ClobberMemory();
   }
   state.counters["free"] = static_cast<double>(basis.rows());
+}
+
+// Ours on the peer's terms: BcmSolver::evaluate into a P x 3 array (no scatter into the mesh).
+void BM_BcmEvaluateRows(benchmark::State& state) {
+  const int free_count = static_cast<int>(state.range(0)) * 1000;
+  auto& cache = solver_cache();
+  auto it = cache.find({free_count, 3, false});
+  if (it == cache.end())
+    it = cache.emplace(std::make_tuple(free_count, 3, false),
+                       std::make_unique<EditSolver>(bench_mesh().mesh, edit_for(free_count, 3, false))).first;
+  const BcmSolver& bcm = it->second->bcm();
+  BcmSolver::RowMatrixX3d x(bcm.n_free(), 3);
+  int frame = 0;
+  for (auto _ : state) {
+    const double angle = 0.001 * (++frame % 100);
+    const Eigen::Affine3d t(Eigen::AngleAxisd(angle, Vec3::UnitX()));
+    bcm.evaluate(std::span<const Eigen::Affine3d>(&t, 1), x);
+    benchmark::DoNotOptimize(x.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["free"] = bcm.n_free();
 }
 
 // Precompute: every k at the small and middle sizes (3 repetitions up to 35k, 1 beyond), k = 3
@@ -207,6 +232,8 @@ BENCHMARK(BM_BcmPrecompute)->Apply(precompute_large)->ArgNames({"kfree", "k", "b
     ->Repetitions(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_BcmEvaluate)->ArgsProduct({{10, 35, 100, 140, 300}, {3}, {0}})->ArgNames({"kfree", "k", "blended"})
     ->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_BcmEvaluateRows)->Arg(35)->Arg(140)->Arg(300)->ArgNames({"kfree"})->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
 BENCHMARK(BM_EigenPlainEvaluate)->Arg(35)->Arg(140)->Arg(300)->ArgNames({"kfree"})->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
 

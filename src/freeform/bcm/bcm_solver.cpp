@@ -22,8 +22,12 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-// Rows below this are evaluated on one thread (thread start-up costs more than the work).
-constexpr int kParallelRows = 4096;
+// Rows below this are evaluated on one thread. Measured at 35k rows (bench_bcm, this 2-core VM):
+// one thread 87 us, two 44 us idle; but with another process on one core the second thread
+// gets preempted inside its chunk and the frame waits for it (p99 2-4 ms). One thread keeps
+// the busy machine's 99th percentile near its median; from 64k rows on the halved time is
+// worth that risk (parallel.h backs off after stalls).
+constexpr int kParallelRows = 65536;
 
 // p_i = c_i + sum_j B_ij G_j for rows [lo, hi); NH4 = 4M known at compile time when > 0. G is
 // padded to 4 lanes (x, y, z, 0) per row j, so one row is n4 four-wide multiply-adds: a vector

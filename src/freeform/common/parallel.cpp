@@ -34,10 +34,16 @@ class Pool {
   }
   int workers() const { return static_cast<int>(threads_.size()); }
 
-  // False if another loop holds the pool (the caller then runs alone).
+  // False if another loop holds the pool or the pool is backing off after a stall (the caller
+  // then runs alone).
   bool run(std::ptrdiff_t n, std::ptrdiff_t chunk, ParallelBody body) {
     const std::unique_lock busy(busy_, std::try_to_lock);
     if (!busy.owns_lock()) return false;
+    if (solo_loops_ > 0) {
+      --solo_loops_;
+      return false;
+    }
+    const auto start = Clock::now();
     const auto chunks = static_cast<std::uint32_t>((n + chunk - 1) / chunk);
     body_.store(body.object, std::memory_order_relaxed);
     call_.store(body.call, std::memory_order_relaxed);
@@ -57,13 +63,30 @@ class Pool {
     if (sleeping) wake_.notify_all();
     work(generation);
     // Only chunks a worker has taken remain: it is running them (or was preempted inside one).
+    const auto own = Clock::now();
     for (std::uint32_t d = done_.load(std::memory_order_acquire); d != chunks; d = done_.load(std::memory_order_acquire))
       done_.wait(d, std::memory_order_acquire);
+    // A wait longer than the caller's own share (and than kStall) means a worker was preempted
+    // inside a chunk: another process wants the core. Run alone for the next `backoff_` loops,
+    // doubling it on each stall, so a loaded machine sees such a stall ever more rarely; loops
+    // that run clean shrink it again.
+    const auto waited = Clock::now() - own;
+    if (waited > std::max<Clock::duration>(kStall, own - start)) {
+      solo_loops_ = backoff_;
+      backoff_ = std::min(2 * backoff_, kMaxBackoff);
+    } else {
+      backoff_ = std::max(backoff_ / 2, kMinBackoff);
+    }
     return true;
   }
 
  private:
-  std::mutex busy_;   // one loop at a time
+  using Clock = std::chrono::steady_clock;
+  static constexpr std::chrono::microseconds kStall{300};
+  static constexpr int kMinBackoff = 64, kMaxBackoff = 4096;
+  std::mutex busy_;   // one loop at a time; guards solo_loops_ and backoff_
+  int solo_loops_ = 0;
+  int backoff_ = kMinBackoff;
   std::mutex mutex_;  // generation_, stop_
   std::condition_variable wake_;
   std::uint32_t generation_ = 0;
