@@ -117,6 +117,16 @@ std::map<std::tuple<int, int, bool>, std::unique_ptr<EditSolver>>& solver_cache(
   return cache;
 }
 
+// The precomputed solver of a case (BM_BcmPrecompute's, or built now).
+const EditSolver& cached_solver(int free_count, int k, bool blended) {
+  auto& cache = solver_cache();
+  auto it = cache.find({free_count, k, blended});
+  if (it == cache.end())
+    it = cache.emplace(std::make_tuple(free_count, k, blended),
+                       std::make_unique<EditSolver>(bench_mesh().mesh, edit_for(free_count, k, blended))).first;
+  return *it->second;
+}
+
 // Args: free vertices in thousands, k, blended (0/1).
 void BM_BcmPrecompute(benchmark::State& state) {
   const int free_count = static_cast<int>(state.range(0)) * 1000;
@@ -145,13 +155,7 @@ void BM_BcmEvaluate(benchmark::State& state) {
   const int free_count = static_cast<int>(state.range(0)) * 1000;
   const int k = static_cast<int>(state.range(1));
   const bool blended = state.range(2) != 0;
-  auto& cache = solver_cache();
-  auto it = cache.find({free_count, k, blended});
-  if (it == cache.end()) {
-    it = cache.emplace(std::make_tuple(free_count, k, blended),
-                       std::make_unique<EditSolver>(bench_mesh().mesh, edit_for(free_count, k, blended))).first;
-  }
-  const EditSolver& solver = *it->second;
+  const EditSolver& solver = cached_solver(free_count, k, blended);
   VertexData<Vec3> out = bench_mesh().mesh.positions();
   const Vec3 pivot = solver.handle_centroid(0);
   int frame = 0;
@@ -171,12 +175,7 @@ void BM_BcmEvaluate(benchmark::State& state) {
 // on our solver's basis.
 void BM_EigenPlainEvaluate(benchmark::State& state) {
   const int free_count = static_cast<int>(state.range(0)) * 1000;
-  auto& cache = solver_cache();
-  auto it = cache.find({free_count, 3, false});
-  if (it == cache.end())
-    it = cache.emplace(std::make_tuple(free_count, 3, false),
-                       std::make_unique<EditSolver>(bench_mesh().mesh, edit_for(free_count, 3, false))).first;
-  const BcmSolver& bcm = it->second->bcm();
+  const BcmSolver& bcm = cached_solver(free_count, 3, false).bcm();
   const Eigen::MatrixXd basis = bcm.basis();
   const Eigen::MatrixXd x0 = bcm.constant_part();
   Eigen::MatrixXd g(4, 3), x(basis.rows(), 3);
@@ -195,12 +194,7 @@ void BM_EigenPlainEvaluate(benchmark::State& state) {
 // Ours on the peer's terms: BcmSolver::evaluate into a P x 3 array (no scatter into the mesh).
 void BM_BcmEvaluateRows(benchmark::State& state) {
   const int free_count = static_cast<int>(state.range(0)) * 1000;
-  auto& cache = solver_cache();
-  auto it = cache.find({free_count, 3, false});
-  if (it == cache.end())
-    it = cache.emplace(std::make_tuple(free_count, 3, false),
-                       std::make_unique<EditSolver>(bench_mesh().mesh, edit_for(free_count, 3, false))).first;
-  const BcmSolver& bcm = it->second->bcm();
+  const BcmSolver& bcm = cached_solver(free_count, 3, false).bcm();
   BcmSolver::RowMatrixX3d x(bcm.n_free(), 3);
   int frame = 0;
   for (auto _ : state) {

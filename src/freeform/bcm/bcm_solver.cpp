@@ -234,7 +234,9 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   stats_.refinement_ms = ms_since(t);
   stats_.refinement_steps = refinement.steps;
   stats_.refinement_converged = refinement.converged;
-  stats_.forward_error = position_error(refinement.correction, frames_) / bounding_diagonal(mesh);
+  const double diagonal = bounding_diagonal(mesh);
+  stats_.forward_error = position_error(refinement.correction, frames_) / diagonal;
+  stats_.unrefined_error = position_error(refinement.initial, frames_) / diagonal;
   constant_ = x.leftCols(3);
   basis_ = x.rightCols(4 * n_mov);
   if (n_mov > kStackHandles) scratch_.resize(static_cast<std::size_t>(16 * n_mov));

@@ -42,6 +42,7 @@ struct BcmStats {
   int refinement_steps = 0;
   bool refinement_converged = false;
   double forward_error = 0;
+  double unrefined_error = 0;  // the same measure of the first correction: the plain solve's error
   double refinement_ms = 0;
   // DESIGN.md section 2 diagnostics of the assembled faces: degenerate ones (no weights, no
   // area) and cotangents clamped on needle-thin ones.

@@ -54,7 +54,7 @@ Refinement refine_bcm_solution(const BcmSystem& sys, const SparseSolver& solver,
   for (Eigen::Index j = 0; j < scale.size(); ++j)
     if (!(scale[j] > 0.0)) scale[j] = 1.0;
   Refinement out;
-  out.correction = Eigen::VectorXd::Zero(d);
+  out.correction = out.initial = Eigen::VectorXd::Zero(d);
   double previous = HUGE_VAL;
   Eigen::MatrixXd r(n_free, d);
   std::vector<Ld> level;
@@ -75,7 +75,7 @@ Refinement refine_bcm_solution(const BcmSystem& sys, const SparseSolver& solver,
     if (!(worst <= previous)) break;  // diverging (or not finite): keep the last iterate
     for (int i = 0; i < n_free; ++i)
       for (int j = 0; j < d; ++j) xl[static_cast<std::size_t>(i) * d + j] += dx(i, j);
-    ++out.steps;
+    if (out.steps++ == 0) out.initial = size;
     out.correction = size;
     if (worst <= rel_tol) {
       out.converged = true;

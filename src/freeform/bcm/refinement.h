@@ -20,6 +20,7 @@ struct Refinement {
   int steps = 0;               // corrections applied
   bool converged = false;      // the last correction was below the tolerance
   Eigen::VectorXd correction;  // per column, max |dx| of the last correction (an error estimate)
+  Eigen::VectorXd initial;     // the same of the first correction: the unrefined solve's error
 };
 
 // x: P by d, solutions of A_pp x = -A_pc xc from `solver` (a factorization of sys.a_pp; may
