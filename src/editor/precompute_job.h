@@ -78,7 +78,7 @@ enum class JobState { Idle, Running, Finished, Failed, Cancelled };
 struct JobStatus {
   JobState state = JobState::Idle;
   double fraction = 0;    // of the newest request, in [0, 1]
-  std::string stage;      // "queued", "assembly", "factorization", "basis", "detail", "done"
+  std::string stage;      // "queued", "assembly", "factorization", "basis", "refinement", "detail", "done"
   std::string error;      // Failed: what went wrong (the solver's message)
   std::uint64_t tag = 0;  // of the newest request
 };

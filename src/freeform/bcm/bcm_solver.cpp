@@ -59,7 +59,11 @@ template <int NH4, class Store>
                                             const Store& store) {
   rows_body<NH4>(lo, hi, n4, b, c0, g4, store);
 }
-const bool kHasAvx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+// __builtin_cpu_init first: this runs in a static initializer, maybe before libgcc's own.
+const bool kHasAvx2 = [] {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+}();
 #else
 constexpr bool kHasAvx2 = false;
 #endif
@@ -229,6 +233,7 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   Eigen::MatrixXd x = solver.solve(rhs);  // one call, all 3 + 4M right-hand sides
   stats_.residual = solver.relative_residual(x, rhs);
   stats_.basis_ms = ms_since(t);
+  progress.step("refinement", 0.75);
   t = Clock::now();
   const Refinement refinement = refine_bcm_solution(sys, solver, xc, x);
   stats_.refinement_ms = ms_since(t);

@@ -18,7 +18,7 @@ class Cancelled : public Error {
 
 struct Progress {
   // Called from the computing thread: stage name ("assembly", "factorization", "basis",
-  // "detail") and the overall fraction done in [0, 1].
+  // "refinement", "detail") and the overall fraction done in [0, 1].
   std::function<void(std::string_view stage, double fraction)> report;
   const std::atomic<bool>* cancel = nullptr;  // set to true to stop at the next checkpoint
 
