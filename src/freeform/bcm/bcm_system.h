@@ -27,13 +27,13 @@ struct BcmSystem {
   std::vector<int> degenerate_examples;  // the first few of them (face indices), for messages
   int clamped_cotangents = 0;
   int zero_area_vertices = 0;        // rows whose area was floored (as in mixed_voronoi_areas)
-  // S_k = outer * lap. lap: the cotangent Laplacian
-  // rows of the (k-1)-ring (free first, then constrained, as in `constrained`) over the whole
-  // patch (free, then constrained columns); outer (only with split_operator, the nonlinear
-  // model): P by those rows, sign included, so that [a_pp a_pc] = outer * lap. k = 1: -I.
+  // lap: the cotangent Laplacian rows of the (k-1)-ring (free first, then constrained, as in
+  // `constrained`) over the whole patch (free, then constrained columns). outer (only with
+  // split_operator, the nonlinear model): P by those rows, sign included, so that
+  // [a_pp a_pc] = outer * lap. k = 1: -I.
   Eigen::SparseMatrix<double, Eigen::RowMajor> lap;
   Eigen::SparseMatrix<double> outer;
-  // The unassembled factors, for the mixed form (bcm/mixed_system.h): lap (always filled) and
+  // The unassembled factors, for the refinement (bcm/refinement.h): lap (always filled) and
   // the diagonal weights Lam_m D of levels m = 1 .. k-1 on the (k-1)-ring rows. ring_rows[r]:
   // patch vertices within r rings of the free set (r = 0 .. k; the patch is ordered by ring).
   std::vector<Eigen::VectorXd> level_weights;
