@@ -1,6 +1,7 @@
 #include "editor/tool_controller.h"
 
 #include "editor/region_ops.h"
+#include "freeform/mesh/bounds.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,16 +12,6 @@ namespace {
 bool same_view(const ScreenView& a, const ScreenView& b) {
   return a.width == b.width && a.height == b.height && a.camera.eye == b.camera.eye &&
          a.camera.target == b.camera.target && a.camera.up == b.camera.up && a.camera.fov_y_deg == b.camera.fov_y_deg;
-}
-
-double bbox_diagonal(const VertexData<Vec3>& positions) {
-  if (positions.size() == 0) return 1.0;
-  Vec3 lo = positions.raw().front(), hi = lo;
-  for (const Vec3& p : positions.raw()) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  return std::max((hi - lo).norm(), 1e-12);
 }
 
 }  // namespace
@@ -106,7 +97,7 @@ std::string ToolController::transform_status() const {
 
 double ToolController::flood_radius() const {
   if (options.flood_radius > 0.0) return options.flood_radius;
-  return 0.08 * bbox_diagonal(doc_.display_positions());
+  return 0.08 * bounding_diagonal(doc_.display_positions());
 }
 
 void ToolController::paint(const std::vector<Vertex>& vertices, bool remove) {

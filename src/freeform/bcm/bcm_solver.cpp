@@ -7,6 +7,7 @@
 
 #include "freeform/common/error.h"
 #include "freeform/common/parallel.h"
+#include "freeform/mesh/bounds.h"
 #include "freeform/numerics/sparse_solver.h"
 #include "freeform/param/anisotropic.h"
 
@@ -128,17 +129,6 @@ double position_error(const Eigen::VectorXd& column_error, const std::vector<std
   return e;
 }
 
-double bounding_diagonal(const Mesh& mesh) {
-  Vec3 lo = Vec3::Constant(HUGE_VAL), hi = -lo;
-  for (const Vec3& p : mesh.positions().raw())
-    if (p.allFinite()) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-  const double d = (hi - lo).norm();
-  return d > 0.0 && std::isfinite(d) ? d : 1.0;
-}
-
 }  // namespace
 
 BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
@@ -239,7 +229,7 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   stats_.refinement_ms = ms_since(t);
   stats_.refinement_steps = refinement.steps;
   stats_.refinement_converged = refinement.converged;
-  const double diagonal = bounding_diagonal(mesh);
+  const double diagonal = bounding_diagonal(mesh.positions());
   stats_.forward_error = position_error(refinement.correction, frames_) / diagonal;
   stats_.unrefined_error = position_error(refinement.initial, frames_) / diagonal;
   constant_ = x.leftCols(3);
@@ -249,7 +239,7 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
     system_ = std::make_unique<BcmFactoredSystem>(
         BcmFactoredSystem{std::move(sys.constrained), std::move(sys.a_pp), std::move(sys.a_pc), std::move(sys.lap),
                           std::move(sys.outer), std::move(solver)});
-  progress.step("basis", 0.9);
+  progress.step("refinement", 0.9);
 }
 
 int BcmSolver::n_free() const { return static_cast<int>(free_.size()); }

@@ -48,7 +48,7 @@ struct MultiresOptions {
 };
 
 struct MultiresStats {
-  double decomposition_ms = 0;  // base + encoding (excludes the BCM precomputation)
+  double decomposition_ms = 0;  // base + encoding + operator_shape_ms (excludes the BCM precomputation)
   int free = 0;                 // encoded vertices (= BCM free vertices)
   int normal_encoded = 0;       // vertices with a normal displacement
   int fallback = 0;             // vertices with the local-frame fallback
