@@ -43,20 +43,21 @@ class Pool {
       --solo_loops_;
       return false;
     }
-    const auto start = Clock::now();
     const auto chunks = static_cast<std::uint32_t>((n + chunk - 1) / chunk);
+    if (chunks > kMaxChunks) return false;
+    const auto start = Clock::now();
     body_.store(body.object, std::memory_order_relaxed);
     call_.store(body.call, std::memory_order_relaxed);
     rows_.store(n, std::memory_order_relaxed);
     chunk_.store(chunk, std::memory_order_relaxed);
-    chunks_.store(chunks, std::memory_order_relaxed);
+    chunks_.store(chunks, std::memory_order_relaxed);  // for done_: workers take by next_'s copy
     done_.store(0, std::memory_order_relaxed);
     std::uint32_t generation = 0;
     bool sleeping = false;
     {
       const std::lock_guard lock(mutex_);
       generation = ++generation_;
-      next_.store(std::uint64_t{generation} << 32, std::memory_order_release);
+      next_.store(std::uint64_t{generation} << 32 | std::uint64_t{chunks} << 16, std::memory_order_release);
       published_.store(generation, std::memory_order_release);
       sleeping = sleepers_ > 0;
     }
@@ -93,8 +94,13 @@ class Pool {
   int sleepers_ = 0;  // workers waiting on wake_
   bool stop_ = false;
   std::atomic<std::uint32_t> published_{0};  // generation_, read by spinning workers
-  // The current loop. next_ = generation << 32 | next chunk; the other fields are read only
-  // after a chunk of that generation was taken, which keeps the loop from ending meanwhile.
+  // The current loop. next_ = generation << 32 | chunk count << 16 | next chunk: the count
+  // travels with the generation, because a worker still in the previous loop that compared
+  // its stale index with chunks_ after the caller had stored the next loop's count could take
+  // a chunk that does not exist and run it with a mix of both loops' fields. The other fields
+  // are read only after a chunk of that generation was taken, which keeps the loop from
+  // ending meanwhile.
+  static constexpr std::uint32_t kMaxChunks = 0xFFFF;
   std::atomic<std::uint64_t> next_{0};
   std::atomic<std::uint32_t> chunks_{0}, done_{0};
   std::atomic<const void*> body_{nullptr};
@@ -119,8 +125,8 @@ class Pool {
     std::uint64_t v = next_.load(std::memory_order_acquire);
     for (;;) {
       if (static_cast<std::uint32_t>(v >> 32) != generation) return false;
-      const auto index = static_cast<std::uint32_t>(v);
-      if (index >= chunks_.load(std::memory_order_relaxed)) return false;
+      const auto index = static_cast<std::uint32_t>(v & kMaxChunks);
+      if (index >= static_cast<std::uint32_t>((v >> 16) & kMaxChunks)) return false;
       if (next_.compare_exchange_weak(v, v + 1, std::memory_order_acq_rel, std::memory_order_acquire)) {
         chunk = index;
         return true;
