@@ -161,6 +161,21 @@ inline RowMatrix evaluate(const BcmSolver& solver, const std::vector<Eigen::Affi
   return out;
 }
 
+// evaluate() with its rows sorted by vertex index, the order of regions.free_vertices() and of
+// the references here: the solver's own rows are in breadth-first order (locality).
+inline RowMatrix evaluate_by_vertex(const BcmSolver& solver, const std::vector<Eigen::Affine3d>& transforms) {
+  const RowMatrix rows = evaluate(solver, transforms);
+  const std::vector<Vertex>& free = solver.free_vertices();
+  std::vector<int> order(free.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return free[static_cast<std::size_t>(a)] < free[static_cast<std::size_t>(b)];
+  });
+  RowMatrix out(rows.rows(), 3);
+  for (std::size_t r = 0; r < order.size(); ++r) out.row(static_cast<Eigen::Index>(r)) = rows.row(order[r]);
+  return out;
+}
+
 // max |a - b| / max(max |b|, 1e-300)
 inline double rel_diff(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return (a - b).cwiseAbs().maxCoeff() / std::max(b.cwiseAbs().maxCoeff(), 1e-300);

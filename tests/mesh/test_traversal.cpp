@@ -65,3 +65,34 @@ TEST(Traversal, ComponentsIncludeIsolatedVertices) {
   EXPECT_EQ(c.vertex_component[Vertex(5)], 1);
   for (Face f : m.faces()) EXPECT_EQ(c.face_component[f], 0);
 }
+
+TEST(Traversal, BreadthFirstOrderVisitsRingByRing) {
+  const Mesh m = Mesh::from_soup(torus(8, 8));
+  std::vector<Vertex> set;
+  for (int i = m.n_vertices() - 1; i >= 0; --i) set.push_back(Vertex(i));
+  const std::vector<Vertex> order = breadth_first_order(m, set);
+  ASSERT_EQ(order.size(), set.size());
+  EXPECT_EQ(order.front(), set.front());
+  std::vector<Vertex> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_TRUE(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end()) << "a vertex twice";
+  const VertexData<int> d = ring_distance(m, std::span(&order.front(), 1), 100);
+  for (std::size_t i = 1; i < order.size(); ++i) EXPECT_LE(d[order[i - 1]], d[order[i]]) << i;
+  EXPECT_GT(d[order.back()], 1);  // the test can fail: the torus has more than two rings
+}
+
+TEST(Traversal, BreadthFirstOrderKeepsPiecesApartInTheOrderOfTheirFirstVertex) {
+  const Mesh m = Mesh::from_soup(strip(20));
+  const std::vector<Vertex> set{Vertex(16), Vertex(15), Vertex(17), Vertex(3), Vertex(2), Vertex(4)};
+  const std::vector<Vertex> order = breadth_first_order(m, set);
+  ASSERT_EQ(order.size(), 6u);
+  EXPECT_EQ(order[0], Vertex(16));
+  EXPECT_EQ(order[3], Vertex(3));
+  std::vector<int> first, second;
+  for (int i = 0; i < 3; ++i) first.push_back(order[static_cast<std::size_t>(i)].idx());
+  for (int i = 3; i < 6; ++i) second.push_back(order[static_cast<std::size_t>(i)].idx());
+  std::sort(first.begin(), first.end());
+  std::sort(second.begin(), second.end());
+  EXPECT_EQ(first, (std::vector<int>{15, 16, 17}));
+  EXPECT_EQ(second, (std::vector<int>{2, 3, 4}));
+}

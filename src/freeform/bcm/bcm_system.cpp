@@ -5,6 +5,7 @@
 #include "freeform/bcm/boundary_band.h"
 
 #include "freeform/common/error.h"
+#include "freeform/mesh/traversal.h"
 #include "freeform/numerics/sparse_solver.h"
 #include "freeform/operators/face_geometry.h"
 
@@ -217,7 +218,7 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
                            std::to_string(v.idx()) + ", but the mesh has " + std::to_string(nv) + " vertices");
 
   BcmSystem sys;
-  sys.free = regions.free_vertices();
+  sys.free = breadth_first_order(mesh, regions.free_vertices());
   check_stencil_size(mesh, sys.free, k);
   const Patch p = build_patch(mesh, sys.free, k);
   const int n_free = p.n_free;

@@ -17,7 +17,7 @@
 namespace freeform {
 
 struct BcmSystem {
-  std::vector<Vertex> free;         // P: row and column order of A_pp (= regions.free_vertices())
+  std::vector<Vertex> free;         // P: row and column order of A_pp (regions.free_vertices() breadth-first)
   std::vector<Vertex> constrained;  // C: constrained vertices within k rings of the free ones,
                                     //    ring by ring (column order of A_pc)
   Eigen::SparseMatrix<double> a_pp;  // P by P (structural zeros from lambda = 0 kept)

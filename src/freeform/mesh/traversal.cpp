@@ -94,4 +94,25 @@ Components connected_components(const Mesh& mesh) {
   return c;
 }
 
+std::vector<Vertex> breadth_first_order(const Mesh& mesh, std::span<const Vertex> set) {
+  // 0 outside the set, 1 in it and not yet queued, 2 queued.
+  VertexData<char> state(static_cast<std::size_t>(mesh.n_vertices()), 0);
+  for (Vertex v : set) state[v] = 1;
+  std::vector<Vertex> out;
+  out.reserve(set.size());
+  for (Vertex start : set) {
+    if (state[start] != 1) continue;
+    state[start] = 2;
+    std::size_t head = out.size();
+    out.push_back(start);
+    for (; head < out.size(); ++head)
+      for (Halfedge h : mesh.outgoing(out[head]))
+        if (const Vertex w = mesh.to_vertex(h); state[w] == 1) {
+          state[w] = 2;
+          out.push_back(w);
+        }
+  }
+  return out;
+}
+
 }  // namespace freeform

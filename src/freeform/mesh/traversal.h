@@ -35,4 +35,10 @@ Components connected_components(const Mesh& mesh);
 // the set. `count` receives the number of pieces.
 VertexData<int> label_pieces(const Mesh& mesh, std::span<const char> in, int& count);
 
+// The vertex set `set` (distinct vertices) reordered breadth-first through edges between its
+// vertices, each piece started at its first vertex in `set`. Neighbours end up near each other
+// in arrays indexed this way: a mesh whose numbering scatters neighbours (subdivided ones
+// number edge midpoints after all old vertices) made per-vertex loops latency-bound.
+std::vector<Vertex> breadth_first_order(const Mesh& mesh, std::span<const Vertex> set);
+
 }  // namespace freeform

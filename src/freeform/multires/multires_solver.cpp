@@ -87,18 +87,22 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
     if (dist[v] >= 0) add_local(v);
   const int n_local = static_cast<int>(local_global_.size());
 
-  // --- local faces: every face with a corner whose normal is recomputed ---
+  // --- local faces: every face with a corner whose normal is recomputed, in local order ---
   FaceData<int> local_face(static_cast<std::size_t>(mesh.n_faces()), -1);
-  for (Face f : mesh.faces()) {
-    const auto vs = mesh.vertices(f);
-    if (std::none_of(vs.begin(), vs.end(), [&](Vertex v) { return dist[v] >= 0 && dist[v] <= normal_rings; })) continue;
-    local_face[f] = static_cast<int>(faces_.size());
-    faces_.push_back({local[vs[0]], local[vs[1]], local[vs[2]]});
-    if (std::any_of(vs.begin(), vs.end(), [&](Vertex v) { return regions.role(v) == Role::Free; })) {
-      detail_faces_.push_back(local_face[f]);
-      for (Vertex v : vs) detail_face_global_.push_back(v.idx());
+  for (int l = 0; l < n_local; ++l)
+    for (Halfedge around : mesh.outgoing(Vertex(local_global_[static_cast<std::size_t>(l)]))) {
+      const Face f = mesh.face(around);
+      if (!f.is_valid() || local_face[f] >= 0) continue;
+      const auto vs = mesh.vertices(f);
+      if (std::none_of(vs.begin(), vs.end(), [&](Vertex v) { return dist[v] >= 0 && dist[v] <= normal_rings; }))
+        continue;
+      local_face[f] = static_cast<int>(faces_.size());
+      faces_.push_back({local[vs[0]], local[vs[1]], local[vs[2]]});
+      if (std::any_of(vs.begin(), vs.end(), [&](Vertex v) { return regions.role(v) == Role::Free; })) {
+        detail_faces_.push_back(local_face[f]);
+        for (Vertex v : vs) detail_face_global_.push_back(v.idx());
+      }
     }
-  }
   // Per frame: face normals of normal_faces_, then each normal vertex sums those around it.
   auto set_normal_vertices = [&](const std::vector<char>& wanted) {
     normal_vertices_.clear();
