@@ -88,9 +88,9 @@ void run(const DeformOptions& opt) {
   }
   const double evaluate_ms = median(frames, &EditTimings::evaluate_ms);
   const double reconstruct_ms = median(frames, &EditTimings::reconstruction_ms);
-  // The editor's display frames (plain linear model): their time and distance from the output.
+  // The editor's display frames of the linear model: their time and distance from the output.
   Json display_frame = nullptr;
-  if (solver.displays_in_float()) {
+  if (edit.deformation == Deformation::Linear) {
     VertexData<Vec3> shown = positions;
     frames.clear();
     for (int i = 0; i < repeats; ++i) {

@@ -59,36 +59,32 @@ void expect_handle_exact(const Mesh& mesh, const Eigen::Affine3d& t, const Verte
 
 TEST(DragSession, LinearFramesAreTheSolversEvaluate) {
   const Mesh mesh = Mesh::from_soup(make_capsule(0.5, 4.0, 16, 24));
-  for (const bool multires : {false, true}) {
-    const EditSolver solver(mesh, capsule_edit(mesh, Deformation::Linear, multires));
-    EXPECT_EQ(solver.displays_in_float(), !multires);
-    VertexData<Vec3> expected = mesh.positions(), shown = mesh.positions();
-    {
-      DragSession drag(solver);
-      // New transforms: a display-precision frame, not settled (multiresolution: exact, settled).
-      const DragFrame f = drag.frame(bend(30), shown);
-      EXPECT_TRUE(f.written);
-      EXPECT_EQ(f.settled, multires);
-      EXPECT_FALSE(f.predicted);
-      solver.evaluate(bend(30), expected, FramePrecision::Display);
-      EXPECT_EQ(max_distance(shown, expected), 0.0);
-      if (!multires) {  // the same transforms again: the exact frame, settled
-        const DragFrame g = drag.frame(bend(30), shown);
-        EXPECT_TRUE(g.written);
-        EXPECT_TRUE(g.settled);
-        solver.evaluate(bend(30), expected);
-        EXPECT_EQ(max_distance(shown, expected), 0.0);
-      }
-      EXPECT_FALSE(drag.frame(bend(30), shown).written);  // nothing changed
-      // finish() after a new frame writes the exact one.
-      drag.frame(bend(40), shown);
-      const DragFrame h = drag.finish(bend(40), shown);
-      EXPECT_EQ(h.written, !multires);
-      EXPECT_TRUE(h.settled);
-    }
-    solver.evaluate(bend(40), expected);
+  const EditSolver solver(mesh, capsule_edit(mesh, Deformation::Linear, true));
+  VertexData<Vec3> expected = mesh.positions(), shown = mesh.positions();
+  {
+    DragSession drag(solver);
+    // New transforms: a display-precision frame, not settled.
+    const DragFrame f = drag.frame(bend(30), shown);
+    EXPECT_TRUE(f.written);
+    EXPECT_FALSE(f.settled);
+    EXPECT_FALSE(f.predicted);
+    solver.evaluate(bend(30), expected, FramePrecision::Display);
     EXPECT_EQ(max_distance(shown, expected), 0.0);
+    // The same transforms again: the exact frame, settled; then nothing changes.
+    const DragFrame g = drag.frame(bend(30), shown);
+    EXPECT_TRUE(g.written);
+    EXPECT_TRUE(g.settled);
+    EXPECT_FALSE(drag.frame(bend(30), shown).written);
+    solver.evaluate(bend(30), expected);
+    EXPECT_EQ(max_distance(shown, expected), 0.0);
+    // finish() after a display frame writes the exact one.
+    EXPECT_FALSE(drag.frame(bend(40), shown).settled);
+    const DragFrame h = drag.finish(bend(40), shown);
+    EXPECT_TRUE(h.written);
+    EXPECT_TRUE(h.settled);
   }
+  solver.evaluate(bend(40), expected);
+  EXPECT_EQ(max_distance(shown, expected), 0.0);
 }
 
 // A drag of 10 frames to 90 degrees without waiting, then finish(): the worker's result is the

@@ -49,7 +49,7 @@ DragFrame DragSession::frame(std::span<const Eigen::Affine3d> transforms, Vertex
     // Display precision while the transforms change, the exact frame once they rest (the next
     // call with the same transforms, or finish()): what is kept is the batch result.
     if (!changed && shown_exact_) return {};
-    shown_exact_ = !changed || !solver_.displays_in_float();
+    shown_exact_ = !changed;
     solver_.evaluate(transforms, positions, shown_exact_ ? FramePrecision::Exact : FramePrecision::Display);
     shown_.assign(transforms.begin(), transforms.end());
     shown_any_ = true;

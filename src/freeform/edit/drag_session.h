@@ -42,9 +42,9 @@ class DragSession {
   // Writes the touched vertices of `positions` (#V) for one transform per movable handle, if
   // the transforms or the worker's iterate changed since the last frame (else `written` is
   // false and positions are left alone). Never waits for an iteration. Throws InvalidInput
-  // on a wrong count, non-finite transforms or a wrong size. The plain linear model
-  // (EditSolver::displays_in_float) shows new transforms at FramePrecision::Display (not
-  // settled) and writes the exact frame on the next call with the same transforms (settled).
+  // on a wrong count, non-finite transforms or a wrong size. The linear model shows new
+  // transforms at FramePrecision::Display (not settled) and writes the exact frame on the
+  // next call with the same transforms (settled).
   DragFrame frame(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions);
   // Blocks until the worker settled for the last frame's transforms, then writes like frame()
   // (a final result; tests). The linear model returns at once, with the exact frame.

@@ -176,7 +176,7 @@ void EditSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexDat
   }
   if (multires_) {
     if (multires_->nonlinear()) warm_ = true;
-    multires_->evaluate(transforms, positions);  // exact: see FramePrecision in edit_solver.h
+    multires_->evaluate(transforms, positions, precision);
     timings_ = {multires_->last_timings().base_ms, multires_->last_timings().detail_ms};
     return;
   }

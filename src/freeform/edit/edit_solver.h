@@ -68,14 +68,10 @@ class EditSolver {
   // map per movable handle, applied to the rest positions. No allocation, O(support).
   // Uses workspace: call from one thread at a time. Throws InvalidInput on a wrong count,
   // a non-finite transform or a wrong size.
-  // The nonlinear model solves cold to convergence (or its iteration cap). `precision`
-  // (BcmSolver) applies where displays_in_float().
+  // The nonlinear model solves cold to convergence (or its iteration cap); `precision`
+  // (BcmSolver) applies to the linear model, with and without multiresolution.
   void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
                 FramePrecision precision = FramePrecision::Exact) const;
-  // FramePrecision::Display is used by the plain linear model only: multiresolution's detail
-  // amplifies the float basis's rounding past 1e-6 of the diagonal where it stands hundreds of
-  // edges tall over its base (docs/bcm.md, "Display frames"), so its frames stay exact.
-  bool displays_in_float() const { return !nonlinear_ && !multires_; }
   const EditTimings& last_timings() const { return timings_; }
   // The nonlinear model's iterations of the last frame (null for the linear model).
   const NonlinearState* nonlinear_state() const;
