@@ -8,7 +8,6 @@
 #include "freeform/edit/edit_solver.h"
 #include "freeform/io/file_util.h"
 #include "freeform/io/mesh_io.h"
-#include "freeform/mesh/bounds.h"
 #include "freeform/mesh/mesh.h"
 
 #include <fmt/core.h>
@@ -88,20 +87,6 @@ void run(const DeformOptions& opt) {
   }
   const double evaluate_ms = median(frames, &EditTimings::evaluate_ms);
   const double reconstruct_ms = median(frames, &EditTimings::reconstruction_ms);
-  // The editor's display frames of the linear model: their time and distance from the output.
-  Json display_frame = nullptr;
-  if (edit.deformation == Deformation::Linear) {
-    VertexData<Vec3> shown = positions;
-    frames.clear();
-    for (int i = 0; i < repeats; ++i) {
-      solver.evaluate(transforms, shown, FramePrecision::Display);
-      frames.push_back(solver.last_timings());
-    }
-    double error = 0.0;
-    for (Vertex v : solver.touched()) error = std::max(error, (shown[v] - positions[v]).norm());
-    display_frame = {{"evaluate_ms", median(frames, &EditTimings::evaluate_ms)},
-                     {"error", error / bounding_diagonal(mesh.positions())}};
-  }
   const EditProblems problems = solver.problems(positions);
   require_finite(problems, transforms);
   TriangleSoup soup = std::move(read.soup);
@@ -116,7 +101,6 @@ void run(const DeformOptions& opt) {
   };
   report.update(edit_report(solver, {evaluate_ms, reconstruct_ms}, problems));
   report["evaluate_repeats"] = repeats;
-  report["display_frame"] = display_frame;
   if (!report["multiresolution"].is_null()) report["multiresolution"]["reconstruct_repeats"] = repeats;
   report["peak_memory_mb"] = peak_memory_mb();
 

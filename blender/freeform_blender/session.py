@@ -126,9 +126,8 @@ class Session:
     def drag(self, obj, transforms):
         """A mouse move: shows at once the nonlinear model's newest iterate, moved by linear BCM's
         change to `transforms` (its iterations run on a worker thread; solver.frame); returns
-        whether the shown shape is settled (linear: a display-precision frame is not, the next
-        refine() writes the exact one). Not remembered: only the shape an operation ends with
-        becomes an undo step."""
+        whether the shown shape is settled (linear: always). Not remembered: only the shape an
+        operation ends with becomes an undo step."""
         state = self.solver.frame(self.out, self.transform_list(transforms))
         self.show(obj, transforms)
         return state["settled"]

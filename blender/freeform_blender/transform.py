@@ -133,9 +133,7 @@ class FREEFORM_OT_transform(bpy.types.Operator):
             value = "  ".join(f"{c:.4g}" for c in self.scale)
         lock = f" along {self.lock}" if self.lock else ""
         typed = f" [{self.typed}|]" if self.typed else ""
-        # Linear drags show display-precision frames, exact on the next timer tick: no status.
-        nonlinear = context.active_object.freeform.deformation == 'NONLINEAR'
-        refining = "  (refining)" if nonlinear and not self.converged else ""
+        refining = "" if self.converged else "  (refining)"
         context.area.header_text_set(f"Freeform {what} {self.handle_name}{lock}: {value}{typed}{refining}")
         context.workspace.status_text_set("Click/Enter: confirm   Right click/Esc: cancel   G/R/S: mode   "
                                           "X/Y/Z: axis   type a value")

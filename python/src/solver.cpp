@@ -309,9 +309,7 @@ void bind_solver(py::module_& m) {
           "An interactive frame that never waits: the nonlinear model iterates on a worker thread and this shows "
           "its newest iterate (moved by linear BCM's change while the transforms are newer than it); call again "
           "while not settled to see it converge. Writes out like evaluate_into; returns {written (the shape "
-          "changed), predicted, settled, iterations, residual, converged}. The linear model: new transforms "
-          "give a display-precision frame (float basis, within 1e-6 of the bounding-box diagonal; not "
-          "settled), the next call with the same transforms or settle() the exact one.")
+          "changed), predicted, settled, iterations, residual, converged}. The linear model: evaluate_into.")
       .def(
           "settle",
           [](PySolver& self, py::handle out, py::handle transforms) { return self.drag_frame(out, transforms, true); },

@@ -512,9 +512,6 @@ bool Document::solver_current() const {
 void Document::wait_for_precompute() {
   job_.wait();
   update_display();
-  // The linear model's first frame is display precision: show the exact one, as the app's
-  // next redraw does.
-  if (refining_ && solver_ && solver_->solver().stats().deformation == Deformation::Linear) update_display();
 }
 
 void Document::save_mesh(const std::string& path, bool allow_overwrite_input) {

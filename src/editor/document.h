@@ -152,8 +152,7 @@ class Document {
   // True if the solver in use was built for the current regions, parameters and rest mesh.
   bool solver_current() const;
   const std::shared_ptr<const PreparedSolver>& solver() const { return solver_; }
-  // Blocks until the job is idle, then update_display() (tests, headless use); for the linear
-  // model until its exact frame is shown.
+  // Blocks until the job is idle, then update_display() (tests, headless use).
   void wait_for_precompute();
 
   // --- files (atomic writes; IoError / InvalidInput) ---

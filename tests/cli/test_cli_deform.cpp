@@ -80,10 +80,6 @@ TEST(CliDeform, EditWritesMeshAndReport) {
     EXPECT_GE(j["timings_ms"][key].get<double>(), 0.0) << key;
   }
   EXPECT_EQ(j["evaluate_repeats"], 51);
-  // The display frames' distance from the output: float rounding, within issue 13's 1e-6.
-  ASSERT_TRUE(j["display_frame"]["evaluate_ms"].is_number());
-  EXPECT_GT(j["display_frame"]["error"].get<double>(), 0.0);
-  EXPECT_LT(j["display_frame"]["error"].get<double>(), 1e-6);
   ASSERT_TRUE(j["residual"].is_number());
   EXPECT_LT(j["residual"].get<double>(), 1e-6);
   ASSERT_TRUE(j["peak_memory_mb"].is_number());
@@ -169,7 +165,6 @@ TEST(CliDeform, NonlinearModelFromTheCommandLine) {
   EXPECT_TRUE(j["nonlinear"]["converged"].get<bool>());
   EXPECT_GE(j["nonlinear"]["iterations"].get<int>(), 1);
   EXPECT_EQ(j["evaluate_repeats"], 1);
-  EXPECT_TRUE(j["display_frame"].is_null());
 
   std::string capped = kGoodEdit;
   capped.replace(capped.find("\"order\": 2"), 10, R"("order": 2, "nonlinear": {"max_iterations": 1, "tolerance": 1e-12})");

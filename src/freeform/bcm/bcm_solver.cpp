@@ -32,32 +32,31 @@ constexpr int kParallelRows = 65536;
 
 // p_i = c_i + sum_j B_ij G_j for rows [lo, hi); NH4 = 4M known at compile time when > 0. G is
 // padded to 4 lanes (x, y, z, 0) per row j, so one row is n4 four-wide multiply-adds: a vector
-// per FMA with AVX2, two with SSE2. B is double (exact frames) or float (display frames,
-// widened to double before the multiply). Arguments __restrict: inside parallel_for's lambda
+// per FMA with AVX2, two with SSE2. Arguments __restrict: inside parallel_for's lambda
 // (pointers captured by reference) the loop was not vectorized and took twice as long.
-template <int NH4, class T, class Store>
-[[gnu::always_inline]] inline void rows_body(int lo, int hi, int n4_dynamic, const T* __restrict b,
+template <int NH4, class Store>
+[[gnu::always_inline]] inline void rows_body(int lo, int hi, int n4_dynamic, const double* __restrict b,
                                              const double* __restrict c0, const double* __restrict g4,
                                              const Store& store) {
   const int n4 = NH4 > 0 ? NH4 : n4_dynamic;
   for (int i = lo; i < hi; ++i) {
-    const T* bi = b + static_cast<std::ptrdiff_t>(i) * n4;
+    const double* bi = b + static_cast<std::ptrdiff_t>(i) * n4;
     double acc[4] = {c0[3 * i], c0[3 * i + 1], c0[3 * i + 2], 0.0};
     for (int j = 0; j < n4; ++j)
-      for (int d = 0; d < 4; ++d) acc[d] += static_cast<double>(bi[j]) * g4[4 * j + d];
+      for (int d = 0; d < 4; ++d) acc[d] += bi[j] * g4[4 * j + d];
     store(i, acc[0], acc[1], acc[2]);
   }
 }
 
 // The same body compiled for the build's baseline ISA and, on x86-64, for AVX2 + FMA, picked at
 // run time: users' default builds get the wide vectors without -march=native.
-template <int NH4, class T, class Store>
-void rows_baseline(int lo, int hi, int n4, const T* b, const double* c0, const double* g4, const Store& store) {
+template <int NH4, class Store>
+void rows_baseline(int lo, int hi, int n4, const double* b, const double* c0, const double* g4, const Store& store) {
   rows_body<NH4>(lo, hi, n4, b, c0, g4, store);
 }
 #if defined(__x86_64__) && defined(__GNUC__)
-template <int NH4, class T, class Store>
-[[gnu::target("avx2,fma")]] void rows_avx2(int lo, int hi, int n4, const T* b, const double* c0, const double* g4,
+template <int NH4, class Store>
+[[gnu::target("avx2,fma")]] void rows_avx2(int lo, int hi, int n4, const double* b, const double* c0, const double* g4,
                                             const Store& store) {
   rows_body<NH4>(lo, hi, n4, b, c0, g4, store);
 }
@@ -70,8 +69,8 @@ const bool kHasAvx2 = [] {
 constexpr bool kHasAvx2 = false;
 #endif
 
-template <int NH4, class T, class Store>
-void kernel(int n, int n4_dynamic, const T* b, const double* c0, const double* g4, const Store& store) {
+template <int NH4, class Store>
+void kernel(int n, int n4_dynamic, const double* b, const double* c0, const double* g4, const Store& store) {
   parallel_for(n, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
 #if defined(__x86_64__) && defined(__GNUC__)
     if (kHasAvx2) {
@@ -81,32 +80,6 @@ void kernel(int n, int n4_dynamic, const T* b, const double* c0, const double* g
 #endif
     rows_baseline<NH4>(static_cast<int>(lo), static_cast<int>(hi), n4_dynamic, b, c0, g4, store);
   });
-}
-
-// The kernel with 4M fixed at compile time for up to three movable handles.
-template <class T, class Store>
-void product(int n, int n4, const T* b, const double* c0, const double* g4, const Store& store) {
-  switch (n4) {
-    case 0: kernel<0>(n, 0, b, c0, g4, store); break;
-    case 4: kernel<4>(n, 4, b, c0, g4, store); break;
-    case 8: kernel<8>(n, 8, b, c0, g4, store); break;
-    case 12: kernel<12>(n, 12, b, c0, g4, store); break;
-    default: kernel<0>(n, n4, b, c0, g4, store); break;
-  }
-}
-
-// The frame matrix G: frame point j of movable handle m moved by T_m, padded to (x, y, z, 0).
-void pad_frames(std::span<const Eigen::Affine3d> transforms, const std::vector<std::array<Vec3, 4>>& frames,
-                double* g) {
-  for (std::size_t m = 0; m < frames.size(); ++m)
-    for (std::size_t j = 0; j < 4; ++j) {
-      const Vec3 y = transforms[m] * frames[m][j];
-      double* r = g + 16 * m + 4 * j;
-      r[0] = y[0];
-      r[1] = y[1];
-      r[2] = y[2];
-      r[3] = 0.0;
-    }
 }
 
 // The operator's positions scaled by a power of two (exact) to an extent near 1: cotangents are
@@ -262,21 +235,6 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   constant_ = x.leftCols(3);
   basis_ = x.rightCols(4 * n_mov);
   if (n_mov > kStackHandles) scratch_.resize(static_cast<std::size_t>(16 * n_mov));
-  // Display basis per handle: (sum_q B_q, B_1, B_2, B_3). The affine weights B_q of a small
-  // handle's frame are large and cancel in the sum; rounding them apart would scale the
-  // error with (distance / handle extent) times the handle's translation.
-  display_basis_.resize(static_cast<std::size_t>(basis_.size()));
-  for (Eigen::Index i = 0; i < basis_.rows(); ++i)
-    for (int m = 0; m < n_mov; ++m) {
-      const auto b = basis_.row(i).segment<4>(4 * m);
-      float* d = display_basis_.data() + i * basis_.cols() + 4 * m;
-      d[0] = static_cast<float>(b.sum());
-      for (int q = 1; q < 4; ++q) d[q] = static_cast<float>(b[q]);
-    }
-  rest_frames_.resize(static_cast<std::size_t>(16 * n_mov));
-  pad_frames(std::vector<Eigen::Affine3d>(frames_.size(), Eigen::Affine3d::Identity()), frames_, rest_frames_.data());
-  rest_rows_.resize(constant_.rows(), 3);
-  evaluate(std::vector<Eigen::Affine3d>(frames_.size(), Eigen::Affine3d::Identity()), rest_rows_);
   if (keep_system)
     system_ = std::make_unique<BcmFactoredSystem>(
         BcmFactoredSystem{std::move(sys.constrained), std::move(sys.a_pp), std::move(sys.a_pc), std::move(sys.lap),
@@ -295,47 +253,48 @@ Vec3 BcmSolver::handle_centroid(int movable) const {
   return centroids_[static_cast<std::size_t>(movable)];
 }
 
-const double* BcmSolver::frame_matrix(std::span<const Eigen::Affine3d> transforms, FramePrecision precision,
-                                      double* stack_buffer) const {
+const double* BcmSolver::frame_matrix(std::span<const Eigen::Affine3d> transforms, double* stack_buffer) const {
   const int n_mov = n_movable();
   if (static_cast<int>(transforms.size()) != n_mov)
     throw InvalidInput("evaluate: got " + std::to_string(transforms.size()) + " transforms for " +
                        std::to_string(n_mov) + " movable handles");
-  for (int m = 0; m < n_mov; ++m)
-    if (!transforms[static_cast<std::size_t>(m)].matrix().allFinite())
-      throw InvalidInput("evaluate: transform " + std::to_string(m) + " is not finite");
   double* g = n_mov <= kStackHandles ? stack_buffer : scratch_.data();
-  pad_frames(transforms, frames_, g);
-  // A display frame applies the float basis to the motion from rest only, in display_basis_'s
-  // form: the centre's motion d0, then each axis point's motion relative to it (dq - d0).
-  if (precision == FramePrecision::Display)
-    for (int m = 0; m < n_mov; ++m) {
-      double* gm = g + 16 * m;
-      const double* rm = rest_frames_.data() + 16 * m;
-      for (int j = 0; j < 16; ++j) gm[j] -= rm[j];
-      for (int j = 4; j < 16; ++j) gm[j] -= gm[j % 4];
+  for (int m = 0; m < n_mov; ++m) {
+    const Eigen::Affine3d& tm = transforms[static_cast<std::size_t>(m)];
+    if (!tm.matrix().allFinite()) throw InvalidInput("evaluate: transform " + std::to_string(m) + " is not finite");
+    for (int j = 0; j < 4; ++j) {
+      const Vec3 y = tm * frames_[static_cast<std::size_t>(m)][static_cast<std::size_t>(j)];
+      for (int d = 0; d < 3; ++d) g[16 * m + 4 * j + d] = y[d];
+      g[16 * m + 4 * j + 3] = 0.0;
     }
+  }
   return g;
 }
 
 template <class Store>
-void BcmSolver::run(const double* g, FramePrecision precision, const Store& store) const {
-  if (precision == FramePrecision::Display)
-    product(n_free(), 4 * n_movable(), display_basis_.data(), rest_rows_.data(), g, store);
-  else
-    product(n_free(), 4 * n_movable(), basis_.data(), constant_.data(), g, store);
+void BcmSolver::run(const double* g, const Store& store) const {
+  const int n = n_free();
+  const int n4 = 4 * n_movable();
+  const double* b = basis_.data();
+  const double* c0 = constant_.data();
+  switch (n4) {
+    case 0: kernel<0>(n, 0, b, c0, g, store); break;
+    case 4: kernel<4>(n, 4, b, c0, g, store); break;
+    case 8: kernel<8>(n, 8, b, c0, g, store); break;
+    case 12: kernel<12>(n, 12, b, c0, g, store); break;
+    default: kernel<0>(n, n4, b, c0, g, store); break;
+  }
 }
 
-void BcmSolver::evaluate(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out,
-                         FramePrecision precision) const {
+void BcmSolver::evaluate(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out) const {
   if (out.rows() != n_free())
     throw InvalidInput("evaluate: output has " + std::to_string(out.rows()) + " rows, expected " +
                        std::to_string(n_free()) + " (one per free vertex)");
   double buffer[16 * kStackHandles];
-  const double* g = frame_matrix(transforms, precision, buffer);
+  const double* g = frame_matrix(transforms, buffer);
   double* o = out.data();
   const Eigen::Index stride = out.outerStride();
-  run(g, precision, [o, stride](int i, double x, double y, double z) {
+  run(g, [o, stride](int i, double x, double y, double z) {
     double* r = o + i * stride;
     r[0] = x;
     r[1] = y;
@@ -343,16 +302,15 @@ void BcmSolver::evaluate(std::span<const Eigen::Affine3d> transforms, Eigen::Ref
   });
 }
 
-void BcmSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
-                         FramePrecision precision) const {
+void BcmSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
   if (positions.size() != static_cast<std::size_t>(n_vertices_))
     throw InvalidInput("evaluate: positions have " + std::to_string(positions.size()) + " entries, the mesh has " +
                        std::to_string(n_vertices_) + " vertices");
   double buffer[16 * kStackHandles];
-  const double* g = frame_matrix(transforms, precision, buffer);
+  const double* g = frame_matrix(transforms, buffer);
   Vec3* pos = positions.raw().data();
   const Vertex* fv = free_.data();
-  run(g, precision, [pos, fv](int i, double x, double y, double z) { pos[fv[i].idx()] = Vec3(x, y, z); });
+  run(g, [pos, fv](int i, double x, double y, double z) { pos[fv[i].idx()] = Vec3(x, y, z); });
   move_handles(transforms, positions);
 }
 

@@ -25,13 +25,6 @@
 
 namespace freeform {
 
-// How a frame is computed. Exact: the double basis (batch output, reports, the nonlinear
-// model). Display: a float copy of the basis applied to the frame points' motion from rest and
-// added to the rest frame's rows (double), so a frame reads 16 instead of 32 bytes of basis
-// per free vertex and handle; its error is ~1e-7 of the handles' motion, not of the
-// coordinates (docs/bcm.md, "Display frames").
-enum class FramePrecision { Exact, Display };
-
 // Above this forward-error estimate (relative to the bounding-box diagonal) the CLI and the
 // editor warn.
 constexpr double kForwardErrorWarning = 1e-6;
@@ -101,12 +94,10 @@ class BcmSolver {
   // Thread safety: concurrent calls on one solver are safe for up to kStackHandles movable
   // handles (the 4M x 4 padded frame matrix lives on the stack); with more, a preallocated member is
   // used and evaluate() must not be called concurrently on the same solver.
-  void evaluate(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out,
-                FramePrecision precision = FramePrecision::Exact) const;
+  void evaluate(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out) const;
   // Writes the free and movable-handle vertices of `positions` (#V entries; handle vertices
   // move rigidly, h' = T_m(h)); fixed and immovable-handle vertices are untouched.
-  void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
-                FramePrecision precision = FramePrecision::Exact) const;
+  void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
   // Only the movable-handle vertices (h' = T_m(h)); transforms already checked by the caller.
   void move_handles(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
   static constexpr int kStackHandles = 32;
@@ -125,11 +116,6 @@ class BcmSolver {
   RowMatrixX3d constant_;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> basis_;
   std::vector<std::array<Vec3, 4>> frames_;
-  // FramePrecision::Display: per handle (sum_q B_q, B_1, B_2, B_3) in float, the rows at the
-  // rest transforms, and the rest frame matrix (as frame_matrix pads it).
-  std::vector<float> display_basis_;
-  RowMatrixX3d rest_rows_;
-  std::vector<double> rest_frames_;
   std::vector<Vec3> centroids_;
   // Movable handle vertices and their owner, to move them rigidly with T_m.
   std::vector<Vertex> handle_vertices_;
@@ -139,10 +125,9 @@ class BcmSolver {
   std::unique_ptr<BcmFactoredSystem> system_;
   mutable std::vector<double> scratch_;  // 16 M doubles (G padded to 4 lanes), only if M > kStackHandles (see evaluate)
 
-  const double* frame_matrix(std::span<const Eigen::Affine3d> transforms, FramePrecision precision,
-                             double* stack_buffer) const;
+  const double* frame_matrix(std::span<const Eigen::Affine3d> transforms, double* stack_buffer) const;
   template <class Store>
-  void run(const double* g, FramePrecision precision, const Store& store) const;
+  void run(const double* g, const Store& store) const;
 };
 
 }  // namespace freeform

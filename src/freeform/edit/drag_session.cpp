@@ -46,14 +46,11 @@ DragFrame DragSession::frame(std::span<const Eigen::Affine3d> transforms, Vertex
                        std::to_string(solver_.n_vertices()) + " vertices");
   const bool changed = !shown_any_ || !same_transforms(transforms, shown_);
   if (!model_) {
-    // Display precision while the transforms change, the exact frame once they rest (the next
-    // call with the same transforms, or finish()): what is kept is the batch result.
-    if (!changed && shown_exact_) return {};
-    shown_exact_ = !changed;
-    solver_.evaluate(transforms, positions, shown_exact_ ? FramePrecision::Exact : FramePrecision::Display);
+    if (!changed) return {};
+    solver_.evaluate(transforms, positions);
     shown_.assign(transforms.begin(), transforms.end());
     shown_any_ = true;
-    DragFrame f{true, false, shown_exact_, {0, 0.0, true, solver_.last_timings().evaluate_ms}};
+    DragFrame f{true, false, true, {0, 0.0, true, solver_.last_timings().evaluate_ms}};
     f.evaluate_ms = solver_.last_timings().evaluate_ms;
     f.reconstruction_ms = solver_.last_timings().reconstruction_ms;
     return f;
@@ -87,7 +84,7 @@ DragFrame DragSession::show(std::span<const Eigen::Affine3d> transforms, VertexD
     linear_now_.resize(model_->n_free(), 3);
     {
       std::lock_guard guard(bcm_mutex_);
-      solver_.bcm().evaluate(transforms, linear_now_, FramePrecision::Display);  // a prediction
+      solver_.bcm().evaluate(transforms, linear_now_);
     }
     base_ = front_.x + linear_now_ - front_.linear;
   } else {
@@ -105,7 +102,7 @@ DragFrame DragSession::show(std::span<const Eigen::Affine3d> transforms, VertexD
 
 DragFrame DragSession::finish(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) {
   DragFrame f = frame(transforms, positions);
-  if (!model_) return f.settled ? f : frame(transforms, positions);
+  if (!model_) return f;
   std::unique_lock lock(mutex_);
   settled_.wait(lock, [&] { return error_ || (front_.settled && same_transforms(transforms, front_.transforms)); });
   if (error_) throw SolverError("the nonlinear model failed: " + *error_);

@@ -24,7 +24,7 @@ namespace freeform {
 struct DragFrame {
   bool written = false;    // positions were written (false: nothing new since the last frame)
   bool predicted = false;  // the iterate is older than the transforms: moved by linear BCM's change
-  bool settled = true;     // the model converged or hit its cap for these transforms (linear: an exact frame)
+  bool settled = true;     // the model converged or hit its cap for these transforms (linear: true)
   NonlinearState state;    // of the iterate shown (linear: converged, 0 iterations)
   double evaluate_ms = 0;        // this call's basis product or prediction
   double reconstruction_ms = 0;  // multiresolution detail; 0 without it
@@ -42,12 +42,10 @@ class DragSession {
   // Writes the touched vertices of `positions` (#V) for one transform per movable handle, if
   // the transforms or the worker's iterate changed since the last frame (else `written` is
   // false and positions are left alone). Never waits for an iteration. Throws InvalidInput
-  // on a wrong count, non-finite transforms or a wrong size. The linear model shows new
-  // transforms at FramePrecision::Display (not settled) and writes the exact frame on the
-  // next call with the same transforms (settled).
+  // on a wrong count, non-finite transforms or a wrong size.
   DragFrame frame(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions);
   // Blocks until the worker settled for the last frame's transforms, then writes like frame()
-  // (a final result; tests). The linear model returns at once, with the exact frame.
+  // (a final result; tests). The linear model returns at once.
   DragFrame finish(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions);
   // The worker's error, if an iteration threw (the session then shows its last iterate).
   std::optional<std::string> error() const;
@@ -68,7 +66,6 @@ class DragSession {
   std::vector<Eigen::Affine3d> shown_;  // transforms of the last written frame
   std::uint64_t shown_version_ = 0;     // iterate version of the last written frame
   bool shown_any_ = false;
-  bool shown_exact_ = true;             // the linear model's last frame was FramePrecision::Exact
   RowMatrixX3d base_, linear_now_;      // the frame thread's workspace
 
   mutable std::mutex mutex_;

@@ -164,8 +164,7 @@ NonlinearState EditSolver::refine(std::span<const Eigen::Affine3d> transforms, d
   return state;
 }
 
-void EditSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
-                          FramePrecision precision) const {
+void EditSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
   if (nonlinear_) {
     nonlinear_->start(transforms, false);
     nonlinear_->iterate(nonlinear_->options().max_iterations);
@@ -176,12 +175,12 @@ void EditSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexDat
   }
   if (multires_) {
     if (multires_->nonlinear()) warm_ = true;
-    multires_->evaluate(transforms, positions, precision);
+    multires_->evaluate(transforms, positions);
     timings_ = {multires_->last_timings().base_ms, multires_->last_timings().detail_ms};
     return;
   }
   const auto start = std::chrono::steady_clock::now();
-  bcm_->evaluate(transforms, positions, precision);
+  bcm_->evaluate(transforms, positions);
   timings_ = {std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(), 0.0};
 }
 

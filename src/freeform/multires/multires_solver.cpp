@@ -309,10 +309,10 @@ std::vector<bool> MultiresSolver::fallback_mask() const {
 }
 
 void MultiresSolver::update_base(std::span<const Eigen::Affine3d> transforms, Base source,
-                                 const Eigen::Ref<const RowMatrixX3d>* given, FramePrecision precision) const {
+                                 const Eigen::Ref<const RowMatrixX3d>* given) const {
   auto top = base_.topRows(n_free_);
   if (source == Base::Linear || !nonlinear_) {
-    bcm_.evaluate(transforms, top, precision);  // checks the count and finiteness of the transforms
+    bcm_.evaluate(transforms, top);  // checks the count and finiteness of the transforms
   } else if (source == Base::NonlinearSolve) {
     nonlinear_->solve(transforms, top);  // checks them too
   } else {
@@ -396,13 +396,12 @@ void MultiresSolver::update_normals() const {
   return h != c.h ? 1 : 0;
 }
 
-void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
-                              FramePrecision precision) const {
+void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
   if (positions.size() != static_cast<std::size_t>(n_vertices_))
     throw InvalidInput("multiresolution evaluate: positions have " + std::to_string(positions.size()) +
                        " entries, the mesh has " + std::to_string(n_vertices_) + " vertices");
   const auto t0 = Clock::now();
-  update_base(transforms, nonlinear_ ? Base::NonlinearSolve : Base::Linear, nullptr, precision);
+  update_base(transforms, nonlinear_ ? Base::NonlinearSolve : Base::Linear);
   timings_.base_ms = ms_since(t0);
   add_detail(positions);
 }

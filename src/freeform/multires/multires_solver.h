@@ -95,13 +95,11 @@ class MultiresSolver {
   // Writes free and movable-handle vertices of `positions` (#V entries): base from the basis,
   // detail added back. Fixed and immovable-handle vertices are untouched. transforms as for
   // BcmSolver::evaluate (one affine map per movable handle, applied to the rest frame).
-  // No allocation, O(support), parallel (common/parallel.h above a size threshold).
+  // No allocation, O(support), parallel (OpenMP static schedule above a size threshold).
   // Uses workspace members: do not call evaluate()/problems() concurrently on one solver.
   // Throws InvalidInput on a wrong transform count, a non-finite transform or a wrong size.
-  // With a nonlinear base: one cold solve of that model (to convergence or its cap); the
-  // precision applies to the linear base only.
-  void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
-                FramePrecision precision = FramePrecision::Exact) const;
+  // With a nonlinear base: one cold solve of that model (to convergence or its cap).
+  void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
 
   // The nonlinear model of the base (null for the linear base). A drag runs its start/iterate
   // itself (EditSolver, DragSession) and calls reconstruct() to show an iterate with its detail.
@@ -166,9 +164,7 @@ class MultiresSolver {
   mutable int flattened_ = 0;  // vertices whose detail the last evaluate() flattened
 
   enum class Base { Linear, NonlinearSolve, Given };
-  void update_base(std::span<const Eigen::Affine3d> transforms, Base source,
-                   const Eigen::Ref<const RowMatrixX3d>* given = nullptr,
-                   FramePrecision precision = FramePrecision::Exact) const;
+  void update_base(std::span<const Eigen::Affine3d> transforms, Base source, const Eigen::Ref<const RowMatrixX3d>* given = nullptr) const;
   void add_detail(VertexData<Vec3>& positions) const;
   // Rebuilds free vertex i with its height lowered by multires::safe_height; 1 if it was lowered.
   int flatten_detail(int i, Vec3* out) const;
