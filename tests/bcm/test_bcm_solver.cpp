@@ -354,6 +354,25 @@ TEST(BcmSolver, OnlyImmovableHandlesAndManyMovableHandles) {
   }
 }
 
+// RowOrder::ByIndex: the same solution with rows sorted by vertex; the scatter into the mesh
+// writes the same positions. A kept system (breadth-first rows) refuses it.
+TEST(BcmSolver, RowsByIndexAreTheBreadthFirstRowsSorted) {
+  const BumpyScene scene;
+  const Regions regions = scene.regions();
+  const BcmSolver bfs(scene.mesh, regions, BcmSettings{});
+  const BcmSolver by_index(scene.mesh, regions, BcmSettings{}, {}, nullptr, false, RowOrder::ByIndex);
+  EXPECT_TRUE(std::is_sorted(by_index.free_vertices().begin(), by_index.free_vertices().end()));
+  EXPECT_FALSE(std::is_sorted(bfs.free_vertices().begin(), bfs.free_vertices().end()));  // the test means something
+  std::mt19937 rng(41);
+  const std::vector<Eigen::Affine3d> t = {random_affine(rng), random_affine(rng)};
+  EXPECT_EQ(evaluate(by_index, t), evaluate_by_vertex(bfs, t));
+  VertexData<Vec3> a = scene.mesh.positions(), b = scene.mesh.positions();
+  bfs.evaluate(t, a);
+  by_index.evaluate(t, b);
+  EXPECT_TRUE(a.raw() == b.raw());
+  EXPECT_THROW(BcmSolver(scene.mesh, regions, BcmSettings{}, {}, nullptr, true, RowOrder::ByIndex), InvalidInput);
+}
+
 TEST(BcmSolver, EvaluateRejectsWrongArguments) {
   const BumpyScene scene;
   const BcmSolver solver(scene.mesh, scene.regions(), BcmSettings{});

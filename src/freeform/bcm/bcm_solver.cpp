@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <string>
 
 namespace freeform {
@@ -132,8 +133,11 @@ double position_error(const Eigen::VectorXd& column_error, const std::vector<std
 }  // namespace
 
 BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
-                     const Progress& progress, const VertexData<Vec3>* operator_positions, bool keep_system)
+                     const Progress& progress, const VertexData<Vec3>* operator_positions, bool keep_system,
+                     RowOrder rows)
     : n_vertices_(mesh.n_vertices()) {
+  if (keep_system && rows != RowOrder::BreadthFirst)
+    throw InvalidInput("BcmSolver: a kept system has breadth-first rows; RowOrder::ByIndex needs keep_system false");
   progress.step("assembly", 0.0);
   // Anisotropic bending: the operator's cotangents and areas come from the equalized
   // conformal map of the support grown by k rings (DESIGN.md section 5).
@@ -232,6 +236,16 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   const double diagonal = bounding_diagonal(mesh.positions());
   stats_.forward_error = position_error(refinement.correction, frames_) / diagonal;
   stats_.unrefined_error = position_error(refinement.initial, frames_) / diagonal;
+  if (rows == RowOrder::ByIndex) {
+    std::vector<int> order(free_.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return free_[static_cast<std::size_t>(a)] < free_[static_cast<std::size_t>(b)]; });
+    const Eigen::Map<const Eigen::VectorXi> perm(order.data(), static_cast<Eigen::Index>(order.size()));
+    x = Eigen::MatrixXd(x(perm, Eigen::all));
+    std::vector<Vertex> sorted(free_.size());
+    for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = free_[static_cast<std::size_t>(order[i])];
+    free_ = std::move(sorted);
+  }
   constant_ = x.leftCols(3);
   basis_ = x.rightCols(4 * n_mov);
   if (n_mov > kStackHandles) scratch_.resize(static_cast<std::size_t>(16 * n_mov));

@@ -67,6 +67,13 @@ struct BcmFactoredSystem {
   SparseSolver solver;              // factors a_pp
 };
 
+// Order of the free rows (free_vertices(), constant_part(), basis()). BreadthFirst keeps mesh
+// neighbours near each other in memory, which the per-vertex arrays of multiresolution and
+// the nonlinear model follow; ByIndex makes the frame's scatter into a mesh's positions one
+// sequential write (the plain linear model: 2x faster at 140k-300k free, docs/benchmarks.md).
+// The system is assembled and factored breadth-first either way.
+enum class RowOrder { BreadthFirst, ByIndex };
+
 class BcmSolver {
  public:
   using RowMatrixX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
@@ -76,9 +83,11 @@ class BcmSolver {
   // `operator_positions` (default: the mesh's): the shape the operator's cotangents and areas
   // come from; constraints and frames always use the mesh's positions. Multiresolution passes
   // its smooth base here, so the detail's metric does not steer the bend (docs/multires.md).
-  // keep_system: keep the factored system for release_system() (the nonlinear model).
+  // keep_system: keep the factored system for release_system() (the nonlinear model); its
+  // rows are breadth-first, so rows must then be RowOrder::BreadthFirst (else InvalidInput).
   BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, const Progress& progress = {},
-            const VertexData<Vec3>* operator_positions = nullptr, bool keep_system = false);
+            const VertexData<Vec3>* operator_positions = nullptr, bool keep_system = false,
+            RowOrder rows = RowOrder::BreadthFirst);
 
   int n_free() const;
   int n_movable() const;  // number of transforms evaluate() expects, in handle order

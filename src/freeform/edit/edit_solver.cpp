@@ -73,7 +73,9 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
     if (nonlinear) options.nonlinear = edit.nonlinear;
     multires_ = std::make_unique<MultiresSolver>(mesh, regions_, edit.settings, options, progress);
   } else {
-    bcm_ = std::make_unique<BcmSolver>(mesh, regions_, edit.settings, progress, nullptr, nonlinear);
+    // The plain linear frame scatters rows into the mesh: rows in vertex order (RowOrder).
+    bcm_ = std::make_unique<BcmSolver>(mesh, regions_, edit.settings, progress, nullptr, nonlinear,
+                                       nonlinear ? RowOrder::BreadthFirst : RowOrder::ByIndex);
     if (nonlinear) nonlinear_ = std::make_unique<NonlinearSolver>(mesh, regions_, *bcm_, mesh.positions(), edit.nonlinear);
   }
   stats_.bcm = bcm().stats();
