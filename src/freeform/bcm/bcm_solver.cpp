@@ -104,9 +104,12 @@ VertexData<Vec3> unit_scaled(const VertexData<Vec3>& p) {
 
 // A failed factorization with the likely cause: degenerate triangles carry no stiffness, so the
 // rows of vertices surrounded by them vanish.
-SparseSolver factor_or_explain(const BcmSystem& sys, const BcmSettings& settings) {
+// Without keep_matrix A_pp moves into the solver: the basis and the refinement need only A_pc and
+// the unassembled operator, and at 1M free a second copy of A_pp is 450 MB of the peak.
+SparseSolver factor_or_explain(BcmSystem& sys, const BcmSettings& settings, bool keep_matrix) {
   try {
-    return SparseSolver(sys.a_pp, sys.symmetric, settings.solver);
+    return SparseSolver(keep_matrix ? Eigen::SparseMatrix<double>(sys.a_pp) : std::move(sys.a_pp), sys.symmetric,
+                        settings.solver);
   } catch (const SolverError& e) {
     if (sys.degenerate_faces == 0)
       throw SolverError(std::string(e.what()) + "; the support's operator is singular: check the support for coincident "
@@ -166,7 +169,7 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   progress.step("factorization", 0.15);
 
   t = Clock::now();
-  SparseSolver solver = factor_or_explain(sys, settings);
+  SparseSolver solver = factor_or_explain(sys, settings, keep_system);
   stats_.factorization_ms = ms_since(t);
   stats_.solver = solver.name();
   progress.step("basis", 0.6);

@@ -160,7 +160,9 @@ struct SparseSolver::Impl {
   }
 };
 
-SparseSolver::SparseSolver(const SpMat& a, bool symmetric, SolverKind kind) : impl_(std::make_unique<Impl>()) {
+SparseSolver::SparseSolver(SpMat matrix, bool symmetric, SolverKind kind) : impl_(std::make_unique<Impl>()) {
+  impl_->a = std::move(matrix);
+  SpMat& a = impl_->a;
   if (a.rows() != a.cols() || a.rows() == 0)
     throw InvalidInput("SparseSolver: the matrix must be square and non-empty (got " + std::to_string(a.rows()) + " x " +
                        std::to_string(a.cols()) + ")");
@@ -172,8 +174,7 @@ SparseSolver::SparseSolver(const SpMat& a, bool symmetric, SolverKind kind) : im
   if (!symmetric && is_cholesky(kind))
     throw InvalidInput(std::string("SparseSolver: ") + kind_name(kind) +
                        " needs a symmetric matrix; this one is unsymmetric (use umfpack or eigen-sparselu)");
-  impl_->a = a;
-  impl_->a.makeCompressed();
+  a.makeCompressed();
 
   // Order of attempts: the forced kind alone, or the fast SuiteSparse one then Eigen's.
   std::vector<SolverKind> order;

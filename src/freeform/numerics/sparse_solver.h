@@ -24,7 +24,8 @@ class SparseSolver {
   // Throws SolverError with a clear message if the matrix is singular, has non-finite entries
   // or (for Cholesky) is not positive definite; InvalidInput if it is not square, is declared
   // symmetric but is not (tolerance 1e-10), or a Cholesky kind is forced on an unsymmetric one.
-  SparseSolver(const Eigen::SparseMatrix<double>& a, bool symmetric, SolverKind kind = SolverKind::Auto);
+  // A is kept (residuals, the fallback): move it in when the caller has no more use for it.
+  SparseSolver(Eigen::SparseMatrix<double> a, bool symmetric, SolverKind kind = SolverKind::Auto);
   ~SparseSolver();
   SparseSolver(SparseSolver&&) noexcept;
   SparseSolver& operator=(SparseSolver&&) noexcept;
