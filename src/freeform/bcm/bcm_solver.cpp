@@ -105,7 +105,7 @@ VertexData<Vec3> unit_scaled(const VertexData<Vec3>& p) {
 // A failed factorization with the likely cause: degenerate triangles carry no stiffness, so the
 // rows of vertices surrounded by them vanish.
 // Without keep_matrix A_pp moves into the solver: the basis and the refinement need only A_pc and
-// the unassembled operator, and at 1M free a second copy of A_pp is 450 MB of the peak.
+// the unassembled operator (a copy of A_pp is 450 MB at 1M free).
 SparseSolver factor_or_explain(BcmSystem& sys, const BcmSettings& settings, bool keep_matrix) {
   try {
     return SparseSolver(keep_matrix ? Eigen::SparseMatrix<double>(sys.a_pp) : std::move(sys.a_pp), sys.symmetric,
@@ -242,7 +242,8 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   if (rows == RowOrder::ByIndex) {
     std::vector<int> order(free_.size());
     std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return free_[static_cast<std::size_t>(a)] < free_[static_cast<std::size_t>(b)]; });
+    std::sort(order.begin(), order.end(),
+              [&](int a, int b) { return free_[static_cast<std::size_t>(a)] < free_[static_cast<std::size_t>(b)]; });
     const Eigen::Map<const Eigen::VectorXi> perm(order.data(), static_cast<Eigen::Index>(order.size()));
     x = Eigen::MatrixXd(x(perm, Eigen::all));
     std::vector<Vertex> sorted(free_.size());
