@@ -41,13 +41,13 @@ TEST(ParallelFor, ManyLoopsInARowAndFromTwoThreadsAtOnce) {
   other.join();
 }
 
-// A sum as the editor's reductions do it: a local per chunk, one atomic add per chunk.
 // Back-to-back loops whose chunk counts alternate (3 and 8 chunks): a worker finishing the
 // last chunk of a short loop must not take "chunk 3" of it once the next loop's count is out.
 TEST(ParallelFor, LoopsWithAlternatingChunkCounts) {
   for (int round = 0; round < 20000; ++round) expect_each_index_once(round % 2 == 0 ? 250 : 5000, 100);
 }
 
+// A sum as the editor's reductions do it: a local per chunk, one atomic add per chunk.
 TEST(ParallelFor, ChunkReductionsAddUp) {
   std::atomic<long long> sum{0};
   const std::ptrdiff_t n = 1 << 20;
