@@ -92,13 +92,13 @@ Eigen::Affine3d translation(const Vec3& t) {
 TEST(NormalDisplacement, CubicRoots) {
   double r[3];
   // (h - 1)(h + 2)(h - 0.5) = h^3 + 0.5 h^2 - 2.5 h + 1
-  ASSERT_EQ(multires::cubic_roots(1.0, -2.5, 0.5, 1.0, 1.0, r), 3);
+  ASSERT_EQ(cubic_roots(1.0, -2.5, 0.5, 1.0, 1.0, r), 3);
   std::sort(r, r + 3);
   EXPECT_NEAR(r[0], -2.0, 1e-14);
   EXPECT_NEAR(r[1], 0.5, 1e-14);
   EXPECT_NEAR(r[2], 1.0, 1e-14);
   // Degree drops: 2 h - 1.
-  ASSERT_EQ(multires::cubic_roots(-1.0, 2.0, 0.0, 0.0, 1.0, r), 1);
+  ASSERT_EQ(cubic_roots(-1.0, 2.0, 0.0, 0.0, 1.0, r), 1);
   EXPECT_NEAR(r[0], 0.5, 1e-15);
 }
 

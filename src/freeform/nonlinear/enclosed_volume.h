@@ -43,8 +43,9 @@ class EnclosedVolumes {
   void gradient(int c, const RowMatrixX3d& x, Eigen::Ref<Eigen::MatrixXd> g) const;
   // Volume of component c at x divided by scale(c)^3.
   double volume(int c, const RowMatrixX3d& x) const;
-  // The lambda for which component c's volume at x + lambda u (u: free rows) is the target
-  // (Newton on the cubic); 0 if it is already, or if no such lambda is found nearby.
+  // The lambda nearest to 0 for which component c's volume at x + lambda u (u: free rows) is
+  // the target (a root of that cubic); 0 if no root moves a vertex by less than the
+  // component's extent.
   double multiplier(int c, const RowMatrixX3d& x, const Eigen::MatrixXd& u) const;
 
  private:
