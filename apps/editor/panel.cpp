@@ -231,6 +231,11 @@ void App::panel_parameters() {
   help_marker("Keep the surface detail while the base deforms (docs/multires.md)");
   ImGui::Checkbox("nonlinear", &p.nonlinear);
   help_marker("Rotation-aware: large twists and bends keep their volume (docs/nonlinear.md); iterates on a worker thread while the display follows the handle");
+  ImGui::SameLine();
+  ImGui::BeginDisabled(!p.nonlinear);
+  ImGui::Checkbox("keep volume", &p.preserve_volume);
+  help_marker("Nonlinear model: keep the enclosed volume of closed meshes (a twisted bar does not neck); off for pulls that should add volume");
+  ImGui::EndDisabled();
   if (slider_done) {
     p.outer = param_edit_.outer;
     p.inner = param_edit_.inner;

@@ -69,6 +69,9 @@ class VIEW3D_PT_freeform(bpy.types.Panel):
         col.prop(s, "anisotropic")
         col.prop(s, "multiresolution")
         col.prop(s, "deformation", text="")
+        sub = col.column()
+        sub.enabled = s.deformation == 'NONLINEAR'
+        sub.prop(s, "preserve_volume")
 
     def draw_solver(self, context, layout, obj):
         s = session.get(obj)

@@ -43,6 +43,9 @@ class FreeformSettings(bpy.types.PropertyGroup):
         name="Model", default='LINEAR', update=_changed,
         items=[('LINEAR', "Linear", "The paper's BCM: one dense product per frame"),
                ('NONLINEAR', "Nonlinear", "Rotation-aware BCM: large twists and bends keep their volume (iterates)")])
+    preserve_volume: BoolProperty(
+        name="Keep volume", default=True, update=_changed,
+        description="Nonlinear model: keep the enclosed volume of closed meshes (off for pulls that should add volume)")
     active_handle: StringProperty(name="Active handle", description="The handle G/R/S move")
 
 

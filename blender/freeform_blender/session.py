@@ -53,6 +53,7 @@ def edit_dict(obj, members, transforms, tris):
         "anisotropic": bool(s.anisotropic),
         "multiresolution": bool(s.multiresolution),
         "deformation": s.deformation.lower(),
+        "nonlinear": {"preserve_volume": bool(s.preserve_volume)},
     }, movable_names
 
 
@@ -155,7 +156,7 @@ def _key(obj, members, tris):
     for name in sorted(members):
         digest.update(name.encode() + b"\0" + members[name].tobytes())
     return (len(obj.data.vertices), digest.digest(), s.order, round(s.outer, 6), round(s.inner, 6),
-            s.anisotropic, s.multiresolution, s.deformation)
+            s.anisotropic, s.multiresolution, s.deformation, s.preserve_volume)
 
 
 def get(obj):

@@ -210,6 +210,7 @@ Edit EditState::to_edit(const Mesh& rest) const {
   e.settings = settings();
   e.multiresolution = params_.multiresolution;
   e.deformation = params_.nonlinear ? Deformation::Nonlinear : Deformation::Linear;
+  e.nonlinear.preserve_volume = params_.preserve_volume;
   e.support = support_vertices();
   for (const HandleState& h : handles_) {
     EditHandle eh;
@@ -241,6 +242,7 @@ EditState EditState::from_edit(const Edit& edit, const Mesh& rest, int first_id)
   p.anisotropic = edit.settings.anisotropic;
   p.multiresolution = edit.multiresolution;
   p.nonlinear = edit.deformation == Deformation::Nonlinear;
+  p.preserve_volume = edit.nonlinear.preserve_volume;
   s.set_parameters(p);
   for (Vertex v : edit.support) s.set_vertex(v, true, -1);
   for (std::size_t i = 0; i < edit.handles.size(); ++i) {

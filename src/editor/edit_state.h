@@ -24,6 +24,7 @@ struct EditParameters {
   bool anisotropic = false;
   bool multiresolution = true;
   bool nonlinear = false;      // the nonlinear model (large rotations, docs/nonlinear.md)
+  bool preserve_volume = true; // its volume term (NonlinearOptions::preserve_volume)
   // Stretches of the boundary with their own smoothness (later ones win). The editor keeps
   // the painted vertices; to_edit() drops those outside the current smoothness band.
   std::vector<SmoothnessSegment> segments;

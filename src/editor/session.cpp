@@ -107,7 +107,8 @@ class Reader : JsonReader {
 
   EditParameters parameters(const Json& j, const std::string& p, int n) const {
     object(j, p);
-    keys(j, p, {"order", "outer", "inner", "anisotropic", "multiresolution", "nonlinear", "segments"});
+    keys(j, p, {"order", "outer", "inner", "anisotropic", "multiresolution", "nonlinear", "preserve_volume",
+                "segments"});
     EditParameters e;
     if (j.contains("order")) {
       const long long k = integer(j["order"], at(p, "order"));
@@ -126,6 +127,7 @@ class Reader : JsonReader {
     if (j.contains("anisotropic")) e.anisotropic = boolean(j["anisotropic"], at(p, "anisotropic"));
     if (j.contains("multiresolution")) e.multiresolution = boolean(j["multiresolution"], at(p, "multiresolution"));
     if (j.contains("nonlinear")) e.nonlinear = boolean(j["nonlinear"], at(p, "nonlinear"));
+    if (j.contains("preserve_volume")) e.preserve_volume = boolean(j["preserve_volume"], at(p, "preserve_volume"));
     if (j.contains("segments")) {
       const std::string sp = at(p, "segments");
       const Json& list = array(j["segments"], sp);
@@ -211,7 +213,8 @@ std::string session_text(const Session& s) {
                   {"inner", s.current.parameters().inner},
                   {"anisotropic", s.current.parameters().anisotropic},
                   {"multiresolution", s.current.parameters().multiresolution},
-                  {"nonlinear", s.current.parameters().nonlinear}}}};
+                  {"nonlinear", s.current.parameters().nonlinear},
+                  {"preserve_volume", s.current.parameters().preserve_volume}}}};
   if (!s.current.parameters().segments.empty()) {
     Json segments = Json::array();
     for (const SmoothnessSegment& seg : s.current.parameters().segments) {

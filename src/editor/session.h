@@ -7,6 +7,7 @@
 //    "applied": [EDIT, ...],
 //    "current": {"parameters": {"order": 3, "outer": 2.0, "inner": 2.0, "anisotropic": false,
 //                               "multiresolution": true, "nonlinear": false,
+//                               "preserve_volume": true,  // optional, default true
 //                               "segments": [{"vertices": [...], "value": 0.0}]},  // optional
 //                "support": [vertex, ...],          // painted support flags (handles add theirs)
 //                "handles": [{"id": 0, "movable": true, "vertices": [...],

@@ -281,3 +281,38 @@ def test_regions_changed_on_a_moved_shape_keep_the_move_and_free_what_left(scene
     expected = cli_translation(obj, rest, support & ~left, handle, (0.0, 0.0, 0.5), 2, tmp_path)
     assert np.abs(got - expected).max() <= 1e-6 * diagonal(rest)
     assert np.array_equal(got[left], rest[left])
+
+
+def enclosed_volume(obj, tris):
+    p = coords(obj).astype(np.float64)
+    return float(np.einsum("ij,ij->i", p[tris[:, 0]], np.cross(p[tris[:, 1]], p[tris[:, 2]])).sum() / 6.0)
+
+
+def test_keep_volume_switches_the_nonlinear_models_volume_term_as_in_the_cli(scene, tmp_path):
+    import freeform_blender.operators as ops
+    import freeform_blender.session as session
+    obj, rest, _, handle = cube_with_regions()
+    obj.freeform.deformation = 'NONLINEAR'
+    obj.freeform.multiresolution = False  # with it the model keeps its smooth base's volume
+    volumes = {}
+    for keep in (True, False):
+        obj.freeform.preserve_volume = keep  # the panel's switch: precomputes again
+        s = session.get(obj)
+        if s is not None and s.thread is not None:
+            s.thread.join()
+            while ops._poll_precompute() is not None:
+                pass
+        bpy.ops.freeform.transform(mode='TRANSLATE', translate=(0.0, 0.0, 0.6))  # a pull
+        tris = np.asarray(session.get(obj).tris)  # the model's triangles (quads split as it did)
+        rest_volume = float(np.einsum("ij,ij->i", rest[tris[:, 0]].astype(np.float64),
+                                      np.cross(rest[tris[:, 1]], rest[tris[:, 2]]).astype(np.float64)).sum() / 6.0)
+        volumes[keep] = enclosed_volume(obj, tris)
+        got = coords(obj)
+        bpy.ops.freeform.export_edit(filepath=str(tmp_path / "pull.json"), mesh_filepath=str(tmp_path / "rest.off"))
+        assert json.loads((tmp_path / "pull.json").read_text())["nonlinear"]["preserve_volume"] is keep
+        replayed = cli_deform(tmp_path / "rest.off", tmp_path / "pull.json", tmp_path / "replayed.off")
+        assert np.abs(got - replayed).max() <= 1e-5 * diagonal(rest)
+        assert np.allclose(got[handle], rest[handle] + [0.0, 0.0, 0.6], atol=1e-5)
+        bpy.ops.freeform.transform(mode='TRANSLATE', translate=(0.0, 0.0, -0.6))  # back
+    assert abs(volumes[True] / rest_volume - 1.0) < 1e-5  # kept (to float32 coordinates)
+    assert volumes[False] > 1.05 * rest_volume  # the pull adds volume without the term

@@ -151,8 +151,12 @@ TEST(EditState, EditRoundTripsThroughJsonAndFromEdit) {
   p.outer = 0.5;
   p.anisotropic = true;
   p.multiresolution = false;
+  p.nonlinear = true;
+  p.preserve_volume = false;
   s.set_parameters(p);
   const Edit e = s.to_edit(mesh);
+  EXPECT_EQ(e.deformation, Deformation::Nonlinear);
+  EXPECT_FALSE(e.nonlinear.preserve_volume);
   ASSERT_EQ(e.handles.size(), 2u);
   EXPECT_TRUE(e.handles[0].matrix.has_value());
   EXPECT_FALSE(e.handles[1].movable);
@@ -171,6 +175,7 @@ TEST(EditState, EditRoundTripsThroughJsonAndFromEdit) {
   EXPECT_EQ(back.settings.smoothness.inner, 1.0);
   EXPECT_TRUE(back.settings.anisotropic);
   EXPECT_FALSE(back.multiresolution);
+  EXPECT_FALSE(back.nonlinear.preserve_volume);
 
   const EditState again = EditState::from_edit(back, mesh, 10);
   EXPECT_EQ(again.support_vertices(), s.support_vertices());

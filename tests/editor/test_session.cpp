@@ -59,6 +59,7 @@ void build(Document& doc, const test::ScratchDir& dir) {
   move_handle(doc, doc.active_handle(), Vec3(0.02, 0, 0.05), -15);
   EditParameters p = doc.parameters();
   p.inner = 0.75;
+  p.preserve_volume = false;  // saved even while the linear model is chosen
   doc.set_parameters(p);
   doc.wait_for_precompute();
 }
