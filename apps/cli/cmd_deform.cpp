@@ -151,7 +151,9 @@ void run(const DeformOptions& opt) {
   if (problems.folded_edges > 0)
     fmt::print(stderr, "warning: {} folded edges (dihedral angle grew by more than {:g} degrees)\n", problems.folded_edges,
                kFoldDegrees);
-  if (ms) {
+  if (ms && ms->detail_by_model) {
+    fmt::print("multiresolution: {}\n", ms->operator_fallback);
+  } else if (ms) {
     fmt::print("multiresolution: decomposition {:.1f} ms, reconstruct {:.3f} ms; {} normal-encoded, {} fallback vertices\n",
                ms->decomposition_ms, reconstruct_ms, ms->normal_encoded, ms->fallback);
     if (problems.detail.overlaps > 0)

@@ -262,7 +262,10 @@ void App::panel_parameters() {
       ImGui::SameLine();
       if (ImGui::SmallButton("Recompute")) attempt("recompute", [&] { doc_.recompute(); });
     } else if (doc_.solver_current() && doc_.solver()) {
-      ImGui::TextDisabled("solver ready%s", doc_.solver()->multiresolution() ? " (multiresolution)" : "");
+      const PreparedSolver& ready = *doc_.solver();
+      ImGui::TextDisabled("solver ready%s", !ready.multiresolution() ? ""
+                                            : ready.detail_by_model() ? " (multiresolution: the nonlinear model carries the detail)"
+                                                                      : " (multiresolution)");
       // Folds and flattened detail, so a problem shows without rendering a close-up; not during
       // a drag (O(support) per check), the last count stays.
       if (!tools_.transforming()) shown_problems_ = doc_.display_problems();

@@ -57,7 +57,10 @@ class PreparedSolver {
   PreparedSolver(const PrecomputeRequest& request, const Progress& progress);
 
   const EditSolver& solver() const { return *solver_; }
-  bool multiresolution() const { return solver_->multires() != nullptr; }
+  bool multiresolution() const { return solver_->stats().multires.has_value(); }
+  // Multiresolution with the nonlinear model where the detail overhangs its base: the model
+  // carries the detail itself (EditSolver, docs/nonlinear.md).
+  bool detail_by_model() const { return multiresolution() && solver_->stats().multires->detail_by_model; }
   int n_movable() const { return solver_->n_movable(); }
   const BcmStats& stats() const { return solver_->stats().bcm; }
   const std::vector<Vertex>& touched() const { return solver_->touched(); }

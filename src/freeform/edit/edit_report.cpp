@@ -12,7 +12,8 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
   for (const HandleRegion& h : regions.handles()) handles.push_back({{"vertices", h.vertices.size()}, {"movable", h.movable}});
   Json multires = nullptr;
   if (ms)
-    multires = {{"decomposition_ms", ms->decomposition_ms},
+    multires = {{"detail", ms->detail_by_model ? "nonlinear_model" : "normal_displacement"},
+                {"decomposition_ms", ms->decomposition_ms},
                 {"smooth_operator", ms->smooth_operator},
                 {"operator_fallback", ms->smooth_operator ? Json(nullptr) : Json(ms->operator_fallback)},
                 {"operator_shape_ms", ms->operator_shape_ms},

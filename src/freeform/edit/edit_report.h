@@ -10,7 +10,7 @@ namespace freeform {
 // deformation, order, smoothness {outer, inner, segments [{vertices, value}]}, counts {free, fixed, constrained_in_system,
 // handles [{vertices, movable}]}, solver, symmetric, timings_ms {assembly, factorization,
 // basis, evaluate}, residual, folded_edges (mesh/folds.h), anisotropic {requested, used, principal_extents, fallback,
-// parametrization_ms}, multiresolution (null without it; else decomposition_ms,
+// parametrization_ms}, multiresolution (null without it; else detail = "normal_displacement" or "nonlinear_model", decomposition_ms,
 // smooth_operator, operator_fallback, operator_shape_ms, reconstruct_ms, normal_encoded, fallback, max_height, flipped_triangles, overlaps).
 // nonlinear (null for the linear model; else iterations, residual = the last iteration's
 // largest vertex move / support extent, converged, iterate_ms).

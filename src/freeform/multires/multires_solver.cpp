@@ -31,24 +31,25 @@ constexpr double kFacingCosine = 0.2;
 
 using Map3 = Eigen::Map<const Vec3>;
 
-void validate_options(const MultiresOptions& o) {
+const MultiresOptions& validated(const MultiresOptions& o) {
   if (o.search_rings < 1 || o.search_rings > 8)
     throw InvalidInput("multiresolution: search_rings must be in [1, 8], got " + std::to_string(o.search_rings));
   if (!(o.barycentric_tolerance >= 0.0 && o.barycentric_tolerance < 0.5))
     throw InvalidInput("multiresolution: barycentric_tolerance must be in [0, 0.5)");
+  return o;
 }
 
 }  // namespace
 
 MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                                const MultiresOptions& options, const Progress& progress)
-    : MultiresSolver(mesh, regions, settings, (validate_options(options), options), progress,
+    : MultiresSolver(mesh, regions, settings, validated(options), progress,
                      base_operator_shape(mesh, regions, settings, progress)) {}
 
 MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                                const MultiresOptions& options, const Progress& progress, const OperatorShape& shape)
     : bcm_(mesh, regions, settings, progress, shape.positions.size() > 0 ? &shape.positions : nullptr,
-           options.nonlinear.has_value()),
+           validated(options).nonlinear.has_value()),
       n_vertices_(mesh.n_vertices()) {
   stats_.smooth_operator = shape.positions.size() > 0;
   stats_.operator_fallback = shape.fallback;

@@ -59,6 +59,10 @@ struct MultiresStats {
   bool smooth_operator = false;
   std::string operator_fallback;
   double operator_shape_ms = 0;
+  // Set by EditSolver for the nonlinear model where the detail overhangs its base (the foot
+  // points fold): the model then keeps the detailed mesh itself and nothing is decomposed
+  // (docs/nonlinear.md, "Detail that overhangs its base").
+  bool detail_by_model = false;
 };
 
 // Found after a reconstruction (see problems()).
@@ -85,6 +89,9 @@ class MultiresSolver {
   // Cancelled when progress.cancel is set (checked between stages, "detail" last).
   MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                  const MultiresOptions& options = {}, const Progress& progress = {});
+  // The same with the base's operator shape already computed (base_operator_shape).
+  MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, const MultiresOptions& options,
+                 const Progress& progress, const OperatorShape& shape);
 
   const BcmSolver& bcm() const { return bcm_; }
   int n_movable() const { return bcm_.n_movable(); }
@@ -129,9 +136,6 @@ class MultiresSolver {
     // one-cross-product test; -inf: never flattened.
     double min_det = -std::numeric_limits<double>::infinity();
   };
-
-  MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, const MultiresOptions& options,
-                 const Progress& progress, const OperatorShape& shape);
 
   BcmSolver bcm_;
   std::unique_ptr<NonlinearSolver> nonlinear_;

@@ -82,6 +82,7 @@ OperatorShape base_operator_shape(const Mesh& mesh, const Regions& regions, cons
     const Vec3 ref = normal[c[0]] + normal[c[1]] + normal[c[2]];
     if (!(foot.dot(ref) > 0.0) || !(foot.norm() > kMinAreaRatio * face_normal(mesh.positions(), f).norm())) ++bad;
   }
+  out.overhanging = bad;
   if (bad > 0) {
     out.fallback = "the detail overhangs its base at " + std::to_string(bad) +
                    " triangles; the base bends with the detailed mesh's operator";

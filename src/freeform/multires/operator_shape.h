@@ -19,6 +19,7 @@ namespace freeform {
 struct OperatorShape {
   VertexData<Vec3> positions;  // #V: foot points on the free vertices, the mesh elsewhere; empty if not used
   std::string fallback;        // why the detailed mesh's own shape is used instead (empty if used)
+  int overhanging = 0;         // triangles whose foot points fold or flatten (the detail overhangs its base)
   double ms = 0;               // wall time (the membrane fill's factorization dominates)
 };
 
