@@ -152,6 +152,11 @@ TEST(SurveyNonlinear, OverhangingDetailIsCarriedByTheModel) {
   const MultiresSolver decomposed(mesh, edit_regions(mesh, s.edit), s.edit.settings, options);
   VertexData<Vec3> p = rest;
   decomposed.evaluate(std::vector<Eigen::Affine3d>{*h.matrix}, p);
+  if (const char* dir = std::getenv("FREEFORM_SURVEY_OUT")) {
+    TriangleSoup soup = mesh.to_soup();
+    soup.positions = p.raw();
+    write_mesh(std::string(dir) + "/bunny-ear-k3-decomposed.off", soup);
+  }
   const int torn = count_folded_edges(mesh, rest, p);
   std::printf("bunny ear, decomposed: %d folded edges, min sv %.3f\n", torn, min_singular_value(mesh, rest, p));
   EXPECT_GT(torn, 100);
