@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -112,6 +113,30 @@ TEST(EnclosedVolumes, MultiplierReachesTheTargetOfTheScaleField) {
 // lambda: along a direction that changes the volume little or with both signs, Newton from 0
 // had returned a far root (a 35k-vertex twist on the bunny moved by 1.7 times its extent) or
 // none. No root within the reach (some vertex moved by the component's extent): 0.
+// The area of the faces with a free corner at x (other corners at their rest), and the move
+// the multiplier allows: kVolumeEfficiency (16) times the even offset |deficit| / area.
+double moving_area(const HalfSphere& s, const Rows& x) {
+  double area = 0.0;
+  for (Face f : s.mesh.faces()) {
+    const auto h = s.mesh.halfedges(f);
+    const Vertex c[3] = {s.mesh.from_vertex(h[0]), s.mesh.to_vertex(h[0]), s.mesh.to_vertex(h[1])};
+    Vec3 p[3];
+    bool moves = false;
+    for (int k = 0; k < 3; ++k) {
+      const int l = s.local[c[k]];
+      moves = moves || (l >= 0 && l < s.n_free);
+      p[k] = l >= 0 ? Vec3(x.row(l).transpose()) : s.mesh.position(c[k]);
+    }
+    if (moves) area += 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm();
+  }
+  return area;
+}
+
+double allowed_move(const HalfSphere& s, const EnclosedVolumes& v, const Rows& x, double target) {
+  const double deficit = (v.volume(0, x) - target) * std::pow(v.scale(0), 3);
+  return std::min(v.scale(0), 16.0 * std::abs(deficit) / moving_area(s, x));
+}
+
 TEST(EnclosedVolumes, MultiplierIsTheRootNearestToZero) {
   const HalfSphere s = sphere(1.0, Vec3(0.2, -0.1, 0.3));
   EnclosedVolumes v(s.mesh, s.mesh.positions(), s.local, s.n_free, s.regions);
@@ -120,9 +145,11 @@ TEST(EnclosedVolumes, MultiplierIsTheRootNearestToZero) {
   for (int i = 0; i < s.n_free; ++i) {
     const Vec3 p = s.x.row(i).transpose();
     x.row(i) += 0.05 * Vec3(std::sin(7 * p.y()), std::cos(5 * p.x()), std::sin(3 * p.z())).transpose();
-    u.row(i) = Vec3(std::sin(4 * p.z()) - 0.3, p.y() * p.x(), std::cos(6 * p.x())).transpose();  // mixed signs
+    // Mixed signs (several roots), with enough of a radial part that the roots nearest to 0
+    // are within the moves the multiplier allows.
+    u.row(i) = (Vec3(std::sin(4 * p.z()) - 0.3, p.y() * p.x(), std::cos(6 * p.x())) +
+                2.0 * (p - Vec3(0.2, -0.1, 0.3))).transpose();
   }
-  const double reach = v.scale(0) / u.rowwise().norm().maxCoeff();
   auto volume_at = [&](double lambda) {
     Rows y = x;
     y.topRows(s.n_free) += lambda * u;
@@ -137,9 +164,12 @@ TEST(EnclosedVolumes, MultiplierIsTheRootNearestToZero) {
     // The target from a multiplier at the rest shape along the radial field (exact there).
     Eigen::MatrixXd radial = s.x.topRows(s.n_free);
     Rows r = s.x;
-    r.topRows(s.n_free) += v.multiplier(0, s.x, radial) * radial;
+    const double radial_lambda = v.multiplier(0, s.x, radial);
+    if (radial_lambda == 0.0) continue;  // a target beyond any allowed move: not known here
+    r.topRows(s.n_free) += radial_lambda * radial;
     const double target = v.volume(0, r);
     auto f = [&](double lambda) { return volume_at(lambda) - target; };
+    const double reach = allowed_move(s, v, x, target) / u.rowwise().norm().maxCoeff();
     // Scan [-reach, reach] for sign changes of V - target; bisect the one nearest to 0.
     const int steps = 4000;
     double nearest = std::numeric_limits<double>::infinity();
@@ -166,6 +196,42 @@ TEST(EnclosedVolumes, MultiplierIsTheRootNearestToZero) {
     }
   }
   EXPECT_GE(found, 3);  // the scan found roots for most targets: the test compared something
+}
+
+// A direction that mostly slides the surface along itself changes the volume little, so its
+// root lies far out: taking it would stretch the soft parts (the armadillo's ears when its
+// head turns) instead of inflating the component. The multiplier refuses it; a radial
+// direction restores the same deficit.
+TEST(EnclosedVolumes, MultiplierRefusesDirectionsThatStretchInsteadOfInflate) {
+  const HalfSphere s = sphere(1.0, Vec3(0.2, -0.1, 0.3));
+  EnclosedVolumes v(s.mesh, s.mesh.positions(), s.local, s.n_free, s.regions);
+  Rows x = s.x;
+  Eigen::MatrixXd slide(s.n_free, 3), radial(s.n_free, 3);
+  for (int i = 0; i < s.n_free; ++i) {
+    const Vec3 p = s.x.row(i).transpose() - Vec3(0.2, -0.1, 0.3);
+    x.row(i) -= 0.01 * p.transpose();  // 3 % of the free half's volume lost
+    slide.row(i) = (Vec3(-p.y(), p.x(), 0.0) + 0.01 * p).transpose();  // a turn about z, a little radial
+    radial.row(i) = p.transpose();
+  }
+  const double target = v.volume(0, s.x);
+  auto deficit_along = [&](const Eigen::MatrixXd& u, double lambda) {
+    Rows y = x;
+    y.topRows(s.n_free) += lambda * u;
+    return v.volume(0, y) - target;
+  };
+  // The sliding direction has a root within the component's extent, beyond 16 even offsets.
+  const double allowed = allowed_move(s, v, x, target), extent_reach = v.scale(0) / slide.rowwise().norm().maxCoeff();
+  double root = 0.0;
+  for (int k = 1; k <= 4000 && root == 0.0; ++k) {
+    const double l = extent_reach * k / 4000;
+    if ((deficit_along(slide, l) > 0) != (deficit_along(slide, 0) > 0)) root = l;
+  }
+  ASSERT_GT(root, 0.0);
+  ASSERT_GT(root * slide.rowwise().norm().maxCoeff(), allowed);
+  EXPECT_EQ(v.multiplier(0, x, slide), 0.0);
+  const double lambda = v.multiplier(0, x, radial);
+  EXPECT_GT(lambda, 0.0);
+  EXPECT_NEAR(deficit_along(radial, lambda), 0.0, 1e-12);
 }
 
 // At 1e150 the volume (1e450) and its gradient (1e300 per unit area) would overflow, at

@@ -7,6 +7,13 @@
 #include <cmath>
 
 namespace freeform {
+namespace {
+
+// The largest move of a volume correction, in multiples of the even offset that restores the
+// volume (EnclosedVolumes::multiplier).
+constexpr double kVolumeEfficiency = 16.0;
+
+}  // namespace
 
 EnclosedVolumes::EnclosedVolumes(const Mesh& mesh, const VertexData<Vec3>& rest, const VertexData<int>& local,
                                  int n_free, const Regions& regions)
@@ -124,14 +131,14 @@ double EnclosedVolumes::multiplier(int c, const RowMatrixX3d& x, const Eigen::Ma
   // for dozens of iterations of a 35k-vertex twist on the bunny, then jumped to a far root
   // that moved vertices by 1.7 times the support's extent.)
   const Part& part = parts_[static_cast<std::size_t>(c)];
-  auto du = [&](int index) {
-    return index >= 0 && index < n_free_ ? Vec3(u.row(index).transpose() * part.inv_scale) : Vec3::Zero();
-  };
+  auto is_free = [&](int index) { return index >= 0 && index < n_free_; };
+  auto du = [&](int index) { return is_free(index) ? Vec3(u.row(index).transpose() * part.inv_scale) : Vec3::Zero(); };
   double k[4] = {0.0, 0.0, 0.0, 0.0};
-  double u_max = 0.0;
+  double u_max = 0.0, area = 0.0;  // area: of the faces that can move
   for (const auto& f : part.faces) {
     const Vec3 a = corner(part, f[0], x), b = corner(part, f[1], x), d = corner(part, f[2], x);
     const Vec3 ua = du(f[0]), ub = du(f[1]), ud = du(f[2]);
+    if (is_free(f[0]) || is_free(f[1]) || is_free(f[2])) area += 0.5 * (b - a).cross(d - a).norm();
     k[0] += a.dot(b.cross(d));
     k[1] += ua.dot(b.cross(d)) + a.dot(ub.cross(d)) + a.dot(b.cross(ud));
     k[2] += ua.dot(ub.cross(d)) + ua.dot(b.cross(ud)) + a.dot(ub.cross(ud));
@@ -141,9 +148,13 @@ double EnclosedVolumes::multiplier(int c, const RowMatrixX3d& x, const Eigen::Ma
   u_max = std::sqrt(u_max);
   const double deficit = k[0] / 6.0 - part.target;  // the same sum as volume(): exactly 0 at the rest
   if (deficit == 0.0 || !(u_max > 0.0) || !std::isfinite(u_max)) return 0.0;
-  // lambda = reach moves some vertex by the component's extent (~1 in these coordinates): no
-  // correction goes further; beyond it the volume is left as it is.
-  const double reach = 1.0 / u_max;
+  // No correction moves a vertex by more than the component's extent (~1 in these
+  // coordinates), nor by more than kVolumeEfficiency times the even offset of the moving
+  // faces that would restore the volume (|deficit| / area): beyond that, u does not inflate
+  // the component but stretches its soft parts (a head turned 90 degrees with 0.3 % volume
+  // lost moved its thin ears by 0.3 of the extent, 40-840 times that offset; the survey's
+  // bar, capsule and cactus need 1.6-5.2 times). Beyond it the volume is left as it is.
+  const double reach = std::min(1.0, kVolumeEfficiency * std::abs(deficit) / area) / u_max;
   double roots[3];
   const int n = cubic_roots(deficit, k[1] / 6.0, k[2] / 6.0, k[3] / 6.0, reach, roots);
   double best = 0.0;

@@ -45,7 +45,8 @@ class EnclosedVolumes {
   double volume(int c, const RowMatrixX3d& x) const;
   // The lambda nearest to 0 for which component c's volume at x + lambda u (u: free rows) is
   // the target (a root of that cubic); 0 if no root moves a vertex by less than the
-  // component's extent.
+  // component's extent and 16 times the even offset of the moving faces that restores the
+  // volume (a larger move stretches thin parts instead of inflating the component).
   double multiplier(int c, const RowMatrixX3d& x, const Eigen::MatrixXd& u) const;
 
  private:
