@@ -264,7 +264,7 @@ void App::panel_parameters() {
     } else if (doc_.solver_current() && doc_.solver()) {
       const PreparedSolver& ready = *doc_.solver();
       ImGui::TextDisabled("solver ready%s", !ready.multiresolution() ? ""
-                                            : ready.detail_by_model() ? " (multiresolution: the nonlinear model carries the detail)"
+                                            : ready.detail_by_model() ? " (detail: model)"
                                                                       : " (multiresolution)");
       // Folds and flattened detail, so a problem shows without rendering a close-up; not during
       // a drag (O(support) per check), the last count stays.
