@@ -151,9 +151,9 @@ double EnclosedVolumes::multiplier(int c, const RowMatrixX3d& x, const Eigen::Ma
   // No correction moves a vertex by more than the component's extent (~1 in these
   // coordinates), nor by more than kVolumeEfficiency times the even offset of the moving
   // faces that would restore the volume (|deficit| / area): beyond that, u does not inflate
-  // the component but stretches its soft parts (a head turned 90 degrees with 0.3 % volume
-  // lost moved its thin ears by 0.3 of the extent, 40-840 times that offset; the survey's
-  // bar, capsule and cactus need 1.6-5.2 times). Beyond it the volume is left as it is.
+  // the component but stretches its soft parts (a head turned 90 degrees, its volume within
+  // 0.3 %, moved its thin ears by up to 0.38 of the extent, 40-840 times that offset; the
+  // survey's bar, capsule and cactus need 1.6-5.2 times). Beyond it the volume is left as it is.
   const double reach = std::min(1.0, kVolumeEfficiency * std::abs(deficit) / area) / u_max;
   double roots[3];
   const int n = cubic_roots(deficit, k[1] / 6.0, k[2] / 6.0, k[3] / 6.0, reach, roots);
