@@ -283,8 +283,8 @@ def test_regions_changed_on_a_moved_shape_keep_the_move_and_free_what_left(scene
     assert np.array_equal(got[left], rest[left])
 
 
-def enclosed_volume(obj, tris):
-    p = coords(obj).astype(np.float64)
+def enclosed_volume(positions, tris):
+    p = np.asarray(positions, dtype=np.float64)
     return float(np.einsum("ij,ij->i", p[tris[:, 0]], np.cross(p[tris[:, 1]], p[tris[:, 2]])).sum() / 6.0)
 
 
@@ -304,9 +304,8 @@ def test_keep_volume_switches_the_nonlinear_models_volume_term_as_in_the_cli(sce
                 pass
         bpy.ops.freeform.transform(mode='TRANSLATE', translate=(0.0, 0.0, 0.6))  # a pull
         tris = np.asarray(session.get(obj).tris)  # the model's triangles (quads split as it did)
-        rest_volume = float(np.einsum("ij,ij->i", rest[tris[:, 0]].astype(np.float64),
-                                      np.cross(rest[tris[:, 1]], rest[tris[:, 2]]).astype(np.float64)).sum() / 6.0)
-        volumes[keep] = enclosed_volume(obj, tris)
+        rest_volume = enclosed_volume(rest, tris)
+        volumes[keep] = enclosed_volume(coords(obj), tris)
         got = coords(obj)
         bpy.ops.freeform.export_edit(filepath=str(tmp_path / "pull.json"), mesh_filepath=str(tmp_path / "rest.off"))
         assert json.loads((tmp_path / "pull.json").read_text())["nonlinear"]["preserve_volume"] is keep

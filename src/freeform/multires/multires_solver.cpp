@@ -43,8 +43,7 @@ const MultiresOptions& validated(const MultiresOptions& o) {
 
 MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                                const MultiresOptions& options, const Progress& progress)
-    : MultiresSolver(mesh, regions, settings, validated(options), progress,
-                     base_operator_shape(mesh, regions, settings, progress)) {}
+    : MultiresSolver(mesh, regions, settings, options, progress, base_operator_shape(mesh, regions, settings, progress)) {}
 
 MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                                const MultiresOptions& options, const Progress& progress, const OperatorShape& shape)
