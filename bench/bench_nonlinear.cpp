@@ -41,10 +41,12 @@ nlohmann::json quality(const Shape& s, const VertexData<Vec3>& p) {
           {"volume_ratio", volume(s.mesh, p) / volume(s.mesh, s.mesh.positions())}};
 }
 
-nlohmann::json run_freeform(Shape s, int order, int reps) {
+// acceleration: NonlinearOptions::acceleration (0: plain local/global iteration, for comparison).
+nlohmann::json run_freeform(Shape s, int order, int acceleration, int reps) {
   s.edit.settings.order = order;
   s.edit.deformation = Deformation::Nonlinear;
   s.edit.nonlinear.max_iterations = 1000;
+  s.edit.nonlinear.acceleration = acceleration;
   std::vector<double> pre, solve;
   VertexData<Vec3> p = s.mesh.positions();
   NonlinearState state;
@@ -58,7 +60,8 @@ nlohmann::json run_freeform(Shape s, int order, int reps) {
     solve.push_back(ms_since(t));
     state = *solver.nonlinear_state();
   }
-  nlohmann::json j = {{"method", "freeform nonlinear"}, {"order", order}, {"precompute_ms", median(pre)},
+  nlohmann::json j = {{"method", acceleration > 0 ? "freeform nonlinear" : "freeform nonlinear, plain iteration"},
+                      {"order", order}, {"precompute_ms", median(pre)},
                       {"solve_ms", median(solve)}, {"iterations", state.iterations}, {"converged", state.converged}};
   j.update(quality(s, p));
   return j;
@@ -113,7 +116,10 @@ int main(int argc, char** argv) {
   nlohmann::json out = nlohmann::json::array();
   for (const Shape& s : shapes) {
     nlohmann::json runs = nlohmann::json::array();
-    for (int k : {2, 3}) runs.push_back(run_freeform(s, k, reps));
+    for (int k : {2, 3}) {
+      runs.push_back(run_freeform(s, k, NonlinearOptions{}.acceleration, reps));
+      runs.push_back(run_freeform(s, k, 0, reps));
+    }
 #ifdef FREEFORM_HAVE_CGAL
     runs.push_back(run_cgal_arap(s, reps));
 #endif

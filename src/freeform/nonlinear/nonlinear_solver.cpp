@@ -2,6 +2,7 @@
 
 #include "freeform/common/error.h"
 #include "freeform/common/parallel.h"
+#include "freeform/nonlinear/anderson.h"
 #include "freeform/nonlinear/enclosed_volume.h"
 #include "freeform/nonlinear/rotation.h"
 
@@ -77,6 +78,8 @@ struct NonlinearSolver::Data {
   bool has_linear = false;
   std::optional<EnclosedVolumes> volumes;  // closed components (with preserve_volume)
   Eigen::MatrixXd grad;              // n_inner x 3: volume gradient (workspace)
+  std::optional<AndersonAcceleration> anderson;
+  bool fitted = false;               // q was fitted to the free rows of x (an image of them may be combined)
 };
 
 NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSolver& linear,
@@ -148,6 +151,7 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
   d.ac = Eigen::MatrixXd::Zero(p, 3);
   d.b1.resize(d.n_inner, 3);
   d.last.resize(p, 3);
+  d.anderson.emplace(3 * Eigen::Index(p), std::max(options.acceleration, 0));
 }
 
 NonlinearSolver::~NonlinearSolver() = default;
@@ -207,6 +211,8 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
   d.has_linear = linear != nullptr;
   if (linear) d.linear = *linear;
   if (d.volumes) d.volumes->start(transforms, d.scale, handle_s);
+  d.anderson->reset();
+  d.fitted = false;
   state_ = {};
 }
 
@@ -252,7 +258,17 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
     state_.converged = state_.step <= options_.tolerance && state_.iterations > 1;
     const bool interrupted = interrupt && interrupt->load(std::memory_order_relaxed);
     // Before any other break: the next call starts with a fresh fit.
-    if (!state_.converged && !interrupted) fit_rotations();
+    if (!state_.converged && !interrupted) {
+      // x is now the image of `last` (if the rotations were fitted to it); the accelerated
+      // iterate combines it with the previous images.
+      Eigen::Map<Eigen::VectorXd> image(d.x.data(), 3 * Eigen::Index(p));
+      if (d.fitted) d.anderson->next(Eigen::Map<const Eigen::VectorXd>(d.last.data(), 3 * Eigen::Index(p)), image);
+      else d.anderson->reset();
+      fit_rotations();
+      d.fitted = true;
+    } else {
+      d.fitted = false;
+    }
     state_.ms = ms0 + std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     if (state_.converged || interrupted || state_.ms - ms0 >= budget_ms) break;
   }

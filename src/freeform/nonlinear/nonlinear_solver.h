@@ -9,7 +9,8 @@
 // so order k and the boundary smoothness keep their meaning. It alternates a global step (one
 // back-substitution with BCM's own factorization; one more per closed component to keep its
 // volume, enclosed_volume.h) and a local step (R_i fitted to the edges of a neighbourhood
-// that grows with the support, Newton steps from the last rotation, parallel). The first
+// that grows with the support, Newton steps from the last rotation, parallel), Anderson-
+// accelerated (anderson.h). The first
 // rotations come from the handles' rotations blended by BCM's own basis functions (harmonic
 // guidance), so most edits converge in a few iterations. Identity transforms give the rest
 // exactly; a rigid motion of every constraint moves everything rigidly.
@@ -43,6 +44,10 @@ struct NonlinearOptions {
   // Keep the enclosed volume of every closed component with free vertices (times the mean
   // cube of the handles' scale field); open meshes are not affected.
   bool preserve_volume = true;
+  // Images of the local/global map combined by Anderson acceleration (anderson.h; 0: plain
+  // iteration). Measured (docs/nonlinear.md): half the iterations on the survey set-ups and the
+  // S-bent plane, 116 -> 60 on the editor benchmark's armadillo twist (195 -> 138 on the bunny).
+  int acceleration = 5;
 };
 
 // The state of the last solve: how far it got and how long it took.
