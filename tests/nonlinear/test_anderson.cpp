@@ -70,6 +70,35 @@ TEST(AndersonAcceleration, ConvergesOnANonlinearMapToItsFixedPoint) {
   EXPECT_LT(fast * 3, slow) << fast << " / " << slow;
 }
 
+// Why NonlinearSolver confirms convergence with a plain step: a secant method also lands on a
+// fixed point that repels plain iteration. G(x) = 2x - 1 (fixed point 1, derivative 2).
+TEST(AndersonAcceleration, FindsFixedPointsThatRepelPlainIteration) {
+  const auto g_of = [](double x) { return 2.0 * x - 1.0; };
+  AndersonAcceleration a(1, 3);
+  Eigen::VectorXd x = Eigen::VectorXd::Constant(1, 1.001), g(1);
+  g(0) = g_of(x(0));
+  a.next(x, g);  // nothing to combine yet: the plain image, which moves away
+  EXPECT_NEAR(g(0), 1.002, 1e-12);
+  x = g;
+  g(0) = g_of(x(0));
+  // Its residual grew (0.001 -> 0.002): the safeguard drops the history, a plain step again.
+  EXPECT_FALSE(a.next(x, g));
+  x = g;
+  g(0) = g_of(x(0));
+  // The residual grows on: with no combination the iterate keeps moving away from 1 ...
+  EXPECT_GT(std::abs(g(0) - 1.0), 0.003);
+  // ... but once two images are combined (no growth check between fresh pairs) the secant
+  // step lands exactly on the repelling fixed point.
+  AndersonAcceleration b(1, 3);
+  Eigen::VectorXd y = Eigen::VectorXd::Constant(1, 1.004), h(1);
+  h(0) = g_of(y(0));
+  b.next(y, h);
+  y = Eigen::VectorXd::Constant(1, 1.002);  // a smaller residual: recorded, then combined
+  h(0) = g_of(y(0));
+  EXPECT_TRUE(b.next(y, h));
+  EXPECT_NEAR(h(0), 1.0, 1e-12);
+}
+
 TEST(AndersonAcceleration, DepthZeroIsPlainIterationAndAResetForgetsTheHistory) {
   Eigen::VectorXd x = Eigen::VectorXd::Ones(3), g = Eigen::VectorXd::Constant(3, 2.0);
   AndersonAcceleration none(3, 0);
@@ -80,8 +109,11 @@ TEST(AndersonAcceleration, DepthZeroIsPlainIterationAndAResetForgetsTheHistory) 
   EXPECT_FALSE(a.next(x, g));  // a first image has nothing to combine with
   Eigen::VectorXd x2 = g, g2 = Eigen::VectorXd::Constant(3, 2.5);
   EXPECT_TRUE(a.next(x2, g2));
+  Eigen::VectorXd x3 = g2, g3 = Eigen::VectorXd::Constant(3, 2.6);
+  EXPECT_FALSE(a.next(x3, g3, false));  // recorded, not combined: the plain image stays
+  EXPECT_EQ(g3, Eigen::VectorXd::Constant(3, 2.6));
   a.reset();
-  Eigen::VectorXd g3 = Eigen::VectorXd::Constant(3, 2.7);
+  g3 = Eigen::VectorXd::Constant(3, 2.7);
   EXPECT_FALSE(a.next(g2, g3));
   EXPECT_EQ(g3, Eigen::VectorXd::Constant(3, 2.7));
 }

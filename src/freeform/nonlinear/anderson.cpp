@@ -20,7 +20,7 @@ void AndersonAcceleration::reset() {
   has_last_ = false;
 }
 
-bool AndersonAcceleration::next(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g) {
+bool AndersonAcceleration::next(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g, bool combine) {
   if (m_ <= 0) return false;
   const Eigen::VectorXd f = g - x;
   if (has_last_ && f.squaredNorm() > last_f_.squaredNorm()) {
@@ -35,7 +35,7 @@ bool AndersonAcceleration::next(const Eigen::Ref<const Eigen::VectorXd>& x, Eige
   last_g_ = g;
   last_f_ = f;
   has_last_ = true;
-  if (count_ == 0) return false;
+  if (count_ == 0 || !combine) return false;
   const auto df = df_.leftCols(count_);
   Eigen::MatrixXd normal = df.transpose() * df;
   normal.diagonal().array() += kRegularization * normal.diagonal().maxCoeff() + 1e-300;

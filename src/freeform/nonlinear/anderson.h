@@ -3,7 +3,9 @@
 // The nonlinear model's local/global alternation is such a G; plain iteration converges
 // linearly and slowly on large supports (docs/nonlinear.md). The next iterate combines the
 // last m images so that the combined residual G(x) - x is least-squares smallest. Safeguard:
-// when the residual grows, the history is dropped and the plain image taken.
+// when the residual grows, the history is dropped and the plain image taken. Like any secant
+// method it also finds fixed points that plain iteration would leave (unstable ones): the
+// caller confirms convergence with a plain step.
 #pragma once
 
 #include <Eigen/Core>
@@ -17,9 +19,10 @@ class AndersonAcceleration {
 
   // Forgets the history (a new problem, or an image not of the last iterate).
   void reset();
-  // x: the iterate G was evaluated at; g: G(x). Overwrites g with the next iterate.
-  // Returns true when it combined images, false when it took the plain image g.
-  bool next(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g);
+  // x: the iterate G was evaluated at; g: G(x). Records them and overwrites g with the next
+  // iterate, the combination of the images (unless `combine` is false: then g stays the plain
+  // image, e.g. to confirm convergence). Returns true when it combined images.
+  bool next(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g, bool combine = true);
 
  private:
   int m_;

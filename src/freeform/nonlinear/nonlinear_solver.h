@@ -45,8 +45,8 @@ struct NonlinearOptions {
   // cube of the handles' scale field); open meshes are not affected.
   bool preserve_volume = true;
   // Images of the local/global map combined by Anderson acceleration (anderson.h; 0: plain
-  // iteration). Measured (docs/nonlinear.md): half the iterations on the survey set-ups and the
-  // S-bent plane, 116 -> 60 on the editor benchmark's armadillo twist (195 -> 138 on the bunny).
+  // iteration). Measured (docs/nonlinear.md): a third to two thirds fewer iterations on the survey and the
+  // S-bent plane, 116 -> 61 on the editor benchmark's armadillo twist (195 -> 139 on the bunny).
   int acceleration = 5;
 };
 
