@@ -3,8 +3,8 @@
 // in a handful of steps where plain iteration needs thousands) and a nonlinear one.
 #include "freeform/nonlinear/anderson.h"
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include <cmath>
 #include <functional>
@@ -16,7 +16,8 @@ namespace {
 using Map = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
 
 // Iterations until |G(x) - x| < tol (or `cap`), accelerated with depth m.
-int iterations_to_converge(const Map& g_of, Eigen::VectorXd x, int m, double tol, int cap, Eigen::VectorXd* out = nullptr) {
+int iterations_to_converge(const Map& g_of, Eigen::VectorXd x, int m, double tol, int cap,
+                           Eigen::VectorXd* out = nullptr) {
   AndersonAcceleration anderson(x.size(), m);
   for (int k = 1; k <= cap; ++k) {
     Eigen::VectorXd g = g_of(x);

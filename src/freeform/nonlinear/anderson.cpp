@@ -20,7 +20,8 @@ void AndersonAcceleration::reset() {
   has_last_ = false;
 }
 
-bool AndersonAcceleration::next(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g, bool combine) {
+bool AndersonAcceleration::next(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g,
+                                bool combine) {
   if (m_ <= 0) return false;
   const Eigen::VectorXd f = g - x;
   if (has_last_ && f.squaredNorm() > last_f_.squaredNorm()) {

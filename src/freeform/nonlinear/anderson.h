@@ -26,10 +26,10 @@ class AndersonAcceleration {
 
  private:
   int m_;
-  int count_ = 0, newest_ = -1;      // columns in use, ring-buffer position of the newest
+  int count_ = 0, newest_ = -1;  // columns in use, ring-buffer position of the newest
   bool has_last_ = false;
-  Eigen::MatrixXd dg_, df_;           // dim x m: differences of successive images / residuals
-  Eigen::VectorXd last_g_, last_f_;   // the previous image and residual
+  Eigen::MatrixXd dg_, df_;          // dim x m: differences of successive images / residuals
+  Eigen::VectorXd last_g_, last_f_;  // the previous image and residual
 };
 
 }  // namespace freeform
