@@ -9,11 +9,11 @@
 // so order k and the boundary smoothness keep their meaning. It alternates a global step (one
 // back-substitution with BCM's own factorization; one more per closed component to keep its
 // volume, enclosed_volume.h) and a local step (R_i fitted to the edges of a neighbourhood
-// that grows with the support, Newton steps from the last rotation, parallel), Anderson-
-// accelerated (anderson.h). The first
-// rotations come from the handles' rotations blended by BCM's own basis functions (harmonic
-// guidance), so most edits converge in a few iterations. Identity transforms give the rest
-// exactly; a rigid motion of every constraint moves everything rigidly.
+// that grows with the support, Newton steps from the last rotation, parallel); Anderson
+// acceleration combines the last iterates (anderson.h). The first rotations come from the
+// handles' rotations blended by BCM's own basis functions (harmonic guidance), so most edits
+// converge in a few iterations. Identity transforms give the rest exactly; a rigid motion of
+// every constraint moves everything rigidly.
 #pragma once
 
 #include "freeform/bcm/bcm_solver.h"
@@ -45,8 +45,9 @@ struct NonlinearOptions {
   // cube of the handles' scale field); open meshes are not affected.
   bool preserve_volume = true;
   // Images of the local/global map combined by Anderson acceleration (anderson.h; 0: plain
-  // iteration). Measured (docs/nonlinear.md): a third to two thirds fewer iterations on the survey and the
-  // S-bent plane, 116 -> 61 on the editor benchmark's armadillo twist (195 -> 139 on the bunny).
+  // iteration). Measured (docs/nonlinear.md): a third to two thirds fewer iterations on the
+  // survey set-ups and the S-bent plane; 116 -> 61 on the editor benchmark's armadillo twist
+  // (195 -> 139 on the bunny).
   int acceleration = 5;
 };
 
