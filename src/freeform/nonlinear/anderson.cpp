@@ -12,7 +12,7 @@ constexpr double kRegularization = 1e-10;
 }  // namespace
 
 AndersonAcceleration::AndersonAcceleration(Eigen::Index dim, int m)
-    : m_(m), dg_(dim, m), df_(dim, m), last_g_(dim), last_f_(dim) {}
+    : m_(m), dg_(dim, m), df_(dim, m), last_g_(dim), last_f_(dim), f_(dim) {}
 
 void AndersonAcceleration::reset() {
   count_ = 0;
@@ -23,7 +23,8 @@ void AndersonAcceleration::reset() {
 bool AndersonAcceleration::next(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g,
                                 bool combine) {
   if (m_ <= 0) return false;
-  const Eigen::VectorXd f = g - x;
+  f_ = g - x;
+  const Eigen::VectorXd& f = f_;
   if (has_last_ && f.squaredNorm() > last_f_.squaredNorm()) {
     // The combined iterate was worse than the one before it: start over from the plain image.
     reset();

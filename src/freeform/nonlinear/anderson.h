@@ -30,6 +30,7 @@ class AndersonAcceleration {
   bool has_last_ = false;
   Eigen::MatrixXd dg_, df_;          // dim x m: differences of successive images / residuals
   Eigen::VectorXd last_g_, last_f_;  // the previous image and residual
+  Eigen::VectorXd f_;                // workspace: this residual
 };
 
 }  // namespace freeform
