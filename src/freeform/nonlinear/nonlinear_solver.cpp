@@ -81,8 +81,8 @@ struct NonlinearSolver::Data {
   std::optional<AndersonAcceleration> anderson;
   bool fitted = false;               // q was fitted to the free rows of x (an image of them may be combined)
   bool accelerated = false;          // x is a combination of images, not a plain image
-  bool after_accelerated = false;    // `last` was
-  double last_step = 0.0;
+  bool after_accelerated = false;    // so was the iterate before it (`last`)
+  double last_step = 0.0;            // the previous iteration's step, which a confirming step must not exceed
 };
 
 NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSolver& linear,
