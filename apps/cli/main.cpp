@@ -3,6 +3,7 @@
 #include "commands.h"
 
 #include "freeform/common/error.h"
+#include "freeform/common/huge_pages.h"
 
 #include <fmt/core.h>
 
@@ -10,6 +11,7 @@
 #include <exception>
 
 int main(int argc, char** argv) {
+  freeform::restart_with_huge_page_malloc(argv);
   CLI::App app{"Freeform: real-time freeform modeling of triangle meshes (Botsch & Kobbelt 2004)", "freeform"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "freeform 0.1.0");

@@ -3,8 +3,10 @@
 // 2 bad command line.
 #include "app.h"
 
-#include <CLI/CLI.hpp>
+#include "freeform/common/huge_pages.h"
+
 #include <fmt/core.h>
+#include <CLI/CLI.hpp>
 
 #include <charconv>
 #include <exception>
@@ -20,13 +22,15 @@ std::pair<int, int> parse_size(const std::string& s) {
     return ec == std::errc() && p == e && v >= 200 && v <= 16384;
   };
   if (x == std::string::npos || !ok(s.data(), s.data() + x, w) || !ok(s.data() + x + 1, s.data() + s.size(), h))
-    throw CLI::ValidationError("--size", "expected WIDTHxHEIGHT with 200..16384 pixels each, e.g. 1280x800, got \"" + s + "\"");
+    throw CLI::ValidationError("--size",
+                               "expected WIDTHxHEIGHT with 200..16384 pixels each, e.g. 1280x800, got \"" + s + "\"");
   return {w, h};
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  freeform::restart_with_huge_page_malloc(argv);
   CLI::App cli{"Freeform editor: paint regions, drag handles, export edits (docs/editor.md)", "freeform-editor"};
   freeform::editor::AppOptions options;
   std::string size = "1280x800";
