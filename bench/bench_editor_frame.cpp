@@ -13,6 +13,7 @@
 // from a seed vertex; k = 3, multiresolution on (the editor's default).
 #include "bench_meshes.h"
 #include "editor/document.h"
+#include "freeform/common/huge_pages.h"
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/traversal.h"
 #include "viewer/egl_context.h"
@@ -205,7 +206,8 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
 int main(int argc, char** argv) {
   // bench_editor_frame [frames] [nonlinear] [busy]: `nonlinear` runs the nonlinear model on a
   // rotating drag; `busy` keeps one core busy meanwhile with a spinning child process (a user's
-  // machine is never idle; forked before any thread exists).
+  // machine is never idle; forked before any thread exists). Restarts as the editor does.
+  freeform::restart_with_huge_page_malloc(argv);
   const int frames = argc > 1 ? std::max(5, std::atoi(argv[1])) : 60;
   bool nonlinear = false, busy = false;
   for (int i = 2; i < argc; ++i) {

@@ -5,8 +5,8 @@
 
 #include "freeform/common/huge_pages.h"
 
-#include <fmt/core.h>
 #include <CLI/CLI.hpp>
+#include <fmt/core.h>
 
 #include <charconv>
 #include <exception>
@@ -22,8 +22,7 @@ std::pair<int, int> parse_size(const std::string& s) {
     return ec == std::errc() && p == e && v >= 200 && v <= 16384;
   };
   if (x == std::string::npos || !ok(s.data(), s.data() + x, w) || !ok(s.data() + x + 1, s.data() + s.size(), h))
-    throw CLI::ValidationError("--size",
-                               "expected WIDTHxHEIGHT with 200..16384 pixels each, e.g. 1280x800, got \"" + s + "\"");
+    throw CLI::ValidationError("--size", "expected WIDTHxHEIGHT with 200..16384 pixels each, e.g. 1280x800, got \"" + s + "\"");
   return {w, h};
 }
 

@@ -86,16 +86,11 @@ void use_huge_pages_in_suitesparse() {
 
 const char* kind_name(SolverKind k) {
   switch (k) {
-    case SolverKind::CholmodSupernodal:
-      return "cholmod-supernodal-llt";
-    case SolverKind::EigenLDLT:
-      return "eigen-simplicial-ldlt";
-    case SolverKind::Umfpack:
-      return "umfpack-lu";
-    case SolverKind::EigenSparseLU:
-      return "eigen-sparselu";
-    case SolverKind::Auto:
-      break;
+    case SolverKind::CholmodSupernodal: return "cholmod-supernodal-llt";
+    case SolverKind::EigenLDLT: return "eigen-simplicial-ldlt";
+    case SolverKind::Umfpack: return "umfpack-lu";
+    case SolverKind::EigenSparseLU: return "eigen-sparselu";
+    case SolverKind::Auto: break;
   }
   return "auto";
 }
@@ -177,8 +172,7 @@ struct SparseSolver::Impl {
       case SolverKind::Umfpack:
         return "SuiteSparse is not available in this build";
 #endif
-      case SolverKind::Auto:
-        break;
+      case SolverKind::Auto: break;
     }
     return "unknown solver kind";
   }
@@ -188,8 +182,8 @@ SparseSolver::SparseSolver(SpMat matrix, bool symmetric, SolverKind kind) : impl
   impl_->a = std::move(matrix);
   SpMat& a = impl_->a;
   if (a.rows() != a.cols() || a.rows() == 0)
-    throw InvalidInput("SparseSolver: the matrix must be square and non-empty (got " + std::to_string(a.rows()) +
-                       " x " + std::to_string(a.cols()) + ")");
+    throw InvalidInput("SparseSolver: the matrix must be square and non-empty (got " + std::to_string(a.rows()) + " x " +
+                       std::to_string(a.cols()) + ")");
   for (int j = 0; j < a.outerSize(); ++j)
     for (SpMat::InnerIterator it(a, j); it; ++it)
       if (!std::isfinite(it.value())) throw SolverError("SparseSolver: the matrix has non-finite entries");
