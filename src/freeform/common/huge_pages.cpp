@@ -12,9 +12,21 @@
 
 namespace freeform {
 
+namespace {
+
+bool opted_out() {
+  static const bool out = [] {
+    const char* v = std::getenv("FREEFORM_HUGE_PAGES");
+    return v != nullptr && std::strcmp(v, "0") == 0;
+  }();
+  return out;
+}
+
+}  // namespace
+
 void advise_huge_pages(void* p, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-  if (p == nullptr || bytes < kHugePageBytes) return;
+  if (p == nullptr || bytes < kHugePageBytes || opted_out()) return;
   constexpr std::uintptr_t page = 4096;
   const auto begin = reinterpret_cast<std::uintptr_t>(p) & ~(page - 1);
   const auto end = (reinterpret_cast<std::uintptr_t>(p) + bytes + page - 1) & ~(page - 1);

@@ -12,7 +12,8 @@ namespace freeform {
 constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
 
 // Asks for huge pages over the pages [p, p + bytes) touches if bytes >= kHugePageBytes. Call it
-// before the memory is first written; a no-op where the kernel or platform has no such request.
+// before the memory is first written; a no-op where the kernel or platform has no such request,
+// and when the environment has FREEFORM_HUGE_PAGES=0 (this and restart_with_huge_page_malloc).
 void advise_huge_pages(void* p, std::size_t bytes);
 
 // std::malloc / calloc / realloc that advise huge pages for large blocks (release with std::free).
