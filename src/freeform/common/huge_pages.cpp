@@ -78,11 +78,9 @@ bool transparent_huge_pages_on_request() {
 
 void restart_with_huge_page_malloc(char** argv) {
 #if defined(__linux__) && defined(__GLIBC__)
-  const char* opt_out = std::getenv("FREEFORM_HUGE_PAGES");
-  if (argv == nullptr || std::getenv("GLIBC_TUNABLES") != nullptr ||
-      (opt_out != nullptr && std::strcmp(opt_out, "0") == 0))
+  if (argv == nullptr || std::getenv("GLIBC_TUNABLES") != nullptr || opted_out() || under_instrumentation() ||
+      !transparent_huge_pages_on_request())
     return;
-  if (under_instrumentation() || !transparent_huge_pages_on_request()) return;
   if (setenv("GLIBC_TUNABLES", "glibc.malloc.hugetlb=1", 0) != 0) return;
   execv("/proc/self/exe", argv);
   unsetenv("GLIBC_TUNABLES");  // exec failed: go on as we are
