@@ -22,6 +22,22 @@ bool opted_out() {
   return out;
 }
 
+bool under_instrumentation() {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  return true;  // the sanitizer's allocator replaces glibc's: the tunable would change nothing
+#else
+  const char* preload = std::getenv("LD_PRELOAD");
+  return preload != nullptr && std::strstr(preload, "valgrind") != nullptr;  // exec would leave valgrind
+#endif
+}
+
+bool transparent_huge_pages_on_request() {
+  std::ifstream in("/sys/kernel/mm/transparent_hugepage/enabled");
+  std::string modes;
+  std::getline(in, modes);
+  return modes.find("[madvise]") != std::string::npos;
+}
+
 }  // namespace
 
 void advise_huge_pages(void* p, std::size_t bytes) {
@@ -46,7 +62,7 @@ void* malloc_huge(std::size_t bytes) {
 
 void* calloc_huge(std::size_t count, std::size_t size) {
   void* p = std::calloc(count, size);
-  if (size != 0 && count <= SIZE_MAX / size) advise_huge_pages(p, count * size);
+  if (p != nullptr) advise_huge_pages(p, count * size);  // calloc refused count * size overflowing
   return p;
 }
 
@@ -55,26 +71,6 @@ void* realloc_huge(void* p, std::size_t bytes) {
   advise_huge_pages(q, bytes);
   return q;
 }
-
-namespace {
-
-bool under_instrumentation() {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-  return true;  // the sanitizer's allocator replaces glibc's: the tunable would change nothing
-#else
-  const char* preload = std::getenv("LD_PRELOAD");
-  return preload != nullptr && std::strstr(preload, "valgrind") != nullptr;  // exec would leave valgrind
-#endif
-}
-
-bool transparent_huge_pages_on_request() {
-  std::ifstream in("/sys/kernel/mm/transparent_hugepage/enabled");
-  std::string modes;
-  std::getline(in, modes);
-  return modes.find("[madvise]") != std::string::npos;
-}
-
-}  // namespace
 
 void restart_with_huge_page_malloc(char** argv) {
 #if defined(__linux__) && defined(__GLIBC__)
