@@ -227,7 +227,7 @@ TEST(BcmSolver, LinearPrecisionWithFixedVerticesAtSystemLevel) {
     Eigen::MatrixXd xc(static_cast<Eigen::Index>(sys.constrained.size()), 3);
     for (std::size_t j = 0; j < sys.constrained.size(); ++j)
       xc.row(static_cast<Eigen::Index>(j)) = (t * disk.mesh.position(sys.constrained[j])).transpose();
-    const SparseSolver solver(sys.a_pp, sys.symmetric);
+    const SparseSolver solver(Eigen::SparseMatrix<double>(sys.a_pp), sys.symmetric);
     const Eigen::MatrixXd p = solver.solve(-(sys.a_pc * xc));
     double err = 0.0;
     for (std::size_t i = 0; i < sys.free.size(); ++i)

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <string>
 
 namespace freeform {
@@ -103,13 +104,11 @@ VertexData<Vec3> unit_scaled(const VertexData<Vec3>& p) {
 }
 
 // A failed factorization with the likely cause: degenerate triangles carry no stiffness, so the
-// rows of vertices surrounded by them vanish.
-// Without keep_matrix A_pp moves into the solver: the basis and the refinement need only A_pc and
-// the unassembled operator (a copy of A_pp is 450 MB at 1M free).
-SparseSolver factor_or_explain(BcmSystem& sys, const BcmSettings& settings, bool keep_matrix) {
+// rows of vertices surrounded by them vanish. A_pp moves into the solver: the basis, the
+// refinement and the nonlinear model need only A_pc and the unassembled operator.
+SparseSolver factor_or_explain(BcmSystem& sys, const BcmSettings& settings) {
   try {
-    return SparseSolver(keep_matrix ? Eigen::SparseMatrix<double>(sys.a_pp) : std::move(sys.a_pp), sys.symmetric,
-                        settings.solver);
+    return SparseSolver(std::move(sys.a_pp), sys.symmetric, settings.solver);
   } catch (const SolverError& e) {
     if (sys.degenerate_faces == 0)
       throw SolverError(std::string(e.what()) + "; the support's operator is singular: check the support for coincident "
@@ -169,9 +168,9 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   progress.step("factorization", 0.15);
 
   t = Clock::now();
-  SparseSolver solver = factor_or_explain(sys, settings, keep_system);
+  std::optional<SparseSolver> solver = factor_or_explain(sys, settings);
   stats_.factorization_ms = ms_since(t);
-  stats_.solver = solver.name();
+  stats_.solver = solver->name();
   progress.step("basis", 0.6);
 
   t = Clock::now();
@@ -226,13 +225,17 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
       xc.row(j).segment<3>(3 + 4 * m + 1) = a.transpose();
     }
   }
-  const Eigen::MatrixXd rhs = -(sys.a_pc * xc);
-  Eigen::MatrixXd x = solver.solve(rhs);  // one call, all 3 + 4M right-hand sides
-  stats_.residual = solver.relative_residual(x, rhs);
+  Eigen::MatrixXd x;
+  {
+    const Eigen::MatrixXd rhs = -(sys.a_pc * xc);
+    x = solver->solve(rhs);  // one call, all 3 + 4M right-hand sides
+    stats_.residual = solver->relative_residual(x, rhs);
+  }
   stats_.basis_ms = ms_since(t);
   progress.step("refinement", 0.75);
   t = Clock::now();
-  const Refinement refinement = refine_bcm_solution(sys, solver, xc, x);
+  const Refinement refinement = refine_bcm_solution(sys, *solver, xc, x);
+  if (!keep_system) solver.reset();  // the factor (2.6 GB at 1M free, k = 3) before the copies below
   stats_.refinement_ms = ms_since(t);
   stats_.refinement_steps = refinement.steps;
   stats_.refinement_converged = refinement.converged;
@@ -253,10 +256,13 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   constant_ = x.leftCols(3);
   basis_ = x.rightCols(4 * n_mov);
   if (n_mov > kStackHandles) scratch_.resize(static_cast<std::size_t>(16 * n_mov));
-  if (keep_system)
-    system_ = std::make_unique<BcmFactoredSystem>(
-        BcmFactoredSystem{std::move(sys.constrained), std::move(sys.a_pp), std::move(sys.a_pc), std::move(sys.lap),
-                          std::move(sys.outer), std::move(solver)});
+  if (keep_system) {
+    // swap: Eigen 3.4's SparseMatrix has no move constructor, std::move would copy.
+    system_ = std::make_unique<BcmFactoredSystem>(BcmFactoredSystem{std::move(sys.constrained), {}, {}, {}, std::move(*solver)});
+    system_->a_pc.swap(sys.a_pc);
+    system_->lap.swap(sys.lap);
+    system_->outer.swap(sys.outer);
+  }
   progress.step("refinement", 0.9);
 }
 

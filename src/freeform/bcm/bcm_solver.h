@@ -61,10 +61,10 @@ struct BcmStats {
 // sides (the nonlinear model, nonlinear/nonlinear_solver.h). Rows and columns as in BcmSystem.
 struct BcmFactoredSystem {
   std::vector<Vertex> constrained;  // columns of a_pc
-  Eigen::SparseMatrix<double> a_pp, a_pc;
+  Eigen::SparseMatrix<double> a_pc;
   Eigen::SparseMatrix<double, Eigen::RowMajor> lap;  // S_k = outer * lap (BcmSystem)
   Eigen::SparseMatrix<double> outer;
-  SparseSolver solver;              // factors a_pp
+  SparseSolver solver;              // factors A_pp (it holds A_pp's lower triangle)
 };
 
 // Order of the free rows (free_vertices(), constant_part(), basis()). BreadthFirst keeps mesh

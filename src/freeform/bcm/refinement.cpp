@@ -3,7 +3,6 @@
 #include "freeform/common/error.h"
 #include "freeform/common/parallel.h"
 
-#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -42,13 +41,13 @@ Refinement refine_bcm_solution(const BcmSystem& sys, const SparseSolver& solver,
     throw InvalidInput("refine_bcm_solution: the solution does not match the system's sizes");
   const double sign = k % 2 == 1 ? -1.0 : 1.0;  // A = sign * S_k
 
-  // z: the patch's values (free rows from x, then the constrained ones), row-major, long double.
+  // z: the patch's values, row-major, long double: the free rows (the iterate, updated in
+  // place), then the constrained ones.
   std::vector<Ld> z(static_cast<std::size_t>(n_free + n_c) * static_cast<std::size_t>(d)), next;
   for (int i = 0; i < n_c; ++i)
     for (int j = 0; j < d; ++j) z[static_cast<std::size_t>(n_free + i) * d + j] = xc(i, j);
-  std::vector<Ld> xl(static_cast<std::size_t>(n_free) * static_cast<std::size_t>(d));
   for (int i = 0; i < n_free; ++i)
-    for (int j = 0; j < d; ++j) xl[static_cast<std::size_t>(i) * d + j] = x(i, j);
+    for (int j = 0; j < d; ++j) z[static_cast<std::size_t>(i) * d + j] = x(i, j);
 
   Eigen::VectorXd scale = x.cwiseAbs().colwise().maxCoeff().transpose();
   for (Eigen::Index j = 0; j < scale.size(); ++j)
@@ -59,7 +58,6 @@ Refinement refine_bcm_solution(const BcmSystem& sys, const SparseSolver& solver,
   Eigen::MatrixXd r(n_free, d);
   std::vector<Ld> level;
   for (int step = 0; step < max_steps; ++step) {
-    std::copy(xl.begin(), xl.end(), z.begin());
     // S_k [x; xc] level by level: rows shrink ring by ring down to the free set.
     const std::vector<Ld>* cur = &z;
     for (int m = 1; m <= k; ++m) {
@@ -74,7 +72,7 @@ Refinement refine_bcm_solution(const BcmSystem& sys, const SparseSolver& solver,
     const double worst = size.cwiseQuotient(scale).maxCoeff();
     if (!(worst <= previous)) break;  // diverging (or not finite): keep the last iterate
     for (int i = 0; i < n_free; ++i)
-      for (int j = 0; j < d; ++j) xl[static_cast<std::size_t>(i) * d + j] += dx(i, j);
+      for (int j = 0; j < d; ++j) z[static_cast<std::size_t>(i) * d + j] += dx(i, j);
     if (out.steps++ == 0) out.initial = size;
     out.correction = size;
     if (worst <= rel_tol) {
@@ -85,7 +83,7 @@ Refinement refine_bcm_solution(const BcmSystem& sys, const SparseSolver& solver,
     previous = worst;
   }
   for (int i = 0; i < n_free; ++i)
-    for (int j = 0; j < d; ++j) x(i, j) = static_cast<double>(xl[static_cast<std::size_t>(i) * d + j]);
+    for (int j = 0; j < d; ++j) x(i, j) = static_cast<double>(z[static_cast<std::size_t>(i) * d + j]);
   return out;
 }
 

@@ -24,8 +24,10 @@ class SparseSolver {
   // Throws SolverError with a clear message if the matrix is singular, has non-finite entries
   // or (for Cholesky) is not positive definite; InvalidInput if it is not square, is declared
   // symmetric but is not (tolerance 1e-10), or a Cholesky kind is forced on an unsymmetric one.
-  // A is kept (residuals, the fallback): move it in when the caller has no more use for it.
-  SparseSolver(Eigen::SparseMatrix<double> a, bool symmetric, SolverKind kind = SolverKind::Auto);
+  // The solver takes A's storage (kept for residuals; a Cholesky solver keeps only its lower
+  // triangle): pass std::move(a), or a copy the caller still needs. Eigen 3.4's SparseMatrix has
+  // no move constructor, so a by-value A would be copied (443 MB twice at 1M free, k = 3).
+  SparseSolver(Eigen::SparseMatrix<double>&& a, bool symmetric, SolverKind kind = SolverKind::Auto);
   ~SparseSolver();
   SparseSolver(SparseSolver&&) noexcept;
   SparseSolver& operator=(SparseSolver&&) noexcept;

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 namespace freeform {
 namespace {
@@ -229,7 +230,7 @@ LscmResult lscm(const Mesh& patch) {
   Eigen::SparseMatrix<double> normal = mt * m;
   normal.makeCompressed();
   const Eigen::MatrixXd rhs = mt * rhs_rows.topRows(row);
-  const SparseSolver solver(normal, true);
+  const SparseSolver solver(std::move(normal), true);
   const Eigen::MatrixXd x = solver.solve(rhs);
 
   r.uv.resize(static_cast<std::size_t>(n));
