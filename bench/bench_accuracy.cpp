@@ -51,7 +51,8 @@ int main(int argc, char** argv) {
     for (std::size_t j = 0; j < sys.constrained.size(); ++j)
       xc.row(static_cast<Eigen::Index>(j)) =
           (m.mesh.position(sys.constrained[j]) + (regions.handle_of(sys.constrained[j]) >= 0 ? shift : Vec3::Zero())).transpose();
-    const Eigen::MatrixXd plain = SparseSolver(Eigen::SparseMatrix<double>(sys.a_pp), sys.symmetric).solve(-(sys.a_pc * xc));
+    const Eigen::MatrixXd plain =
+        SparseSolver(Eigen::SparseMatrix<double>(sys.a_pp), sys.symmetric).solve(-(sys.a_pc * xc));
     VertexData<Vec3> boundary = m.mesh.positions();
     for (int i = 0; i < h; ++i) boundary[m.bfs[static_cast<std::size_t>(i)]] += shift;
     const double c = s.smoothness.outer == Smoothness::kDefault ? s.order - 1.0 : s.smoothness.outer;

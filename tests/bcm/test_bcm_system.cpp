@@ -240,7 +240,8 @@ TEST(SparseSolver, SingularOrIndefiniteThrows) {
   path.setFromTriplets(t.begin(), t.end());
   for (SolverKind kind : {SolverKind::Auto, SolverKind::CholmodSupernodal, SolverKind::EigenLDLT, SolverKind::Umfpack,
                           SolverKind::EigenSparseLU}) {
-    EXPECT_THROW(SparseSolver(Eigen::SparseMatrix<double>(path), kind != SolverKind::Umfpack && kind != SolverKind::EigenSparseLU, kind), SolverError);
+    const bool symmetric = kind != SolverKind::Umfpack && kind != SolverKind::EigenSparseLU;
+    EXPECT_THROW(SparseSolver(Eigen::SparseMatrix<double>(path), symmetric, kind), SolverError);
   }
   Eigen::MatrixXd nan_matrix = Eigen::MatrixXd::Identity(2, 2);
   nan_matrix(1, 1) = std::nan("");

@@ -235,8 +235,8 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   progress.step("refinement", 0.75);
   t = Clock::now();
   const Refinement refinement = refine_bcm_solution(sys, *solver, xc, x);
-  if (!keep_system) solver.reset();  // the factor (2.6 GB at 1M free, k = 3) before the copies below
   stats_.refinement_ms = ms_since(t);
+  if (!keep_system) solver.reset();  // the factor (2.6 GB at 1M free, k = 3) before the copies below
   stats_.refinement_steps = refinement.steps;
   stats_.refinement_converged = refinement.converged;
   const double diagonal = bounding_diagonal(mesh.positions());
@@ -258,7 +258,8 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   if (n_mov > kStackHandles) scratch_.resize(static_cast<std::size_t>(16 * n_mov));
   if (keep_system) {
     // swap: Eigen 3.4's SparseMatrix has no move constructor, std::move would copy.
-    system_ = std::make_unique<BcmFactoredSystem>(BcmFactoredSystem{std::move(sys.constrained), {}, {}, {}, std::move(*solver)});
+    system_ = std::make_unique<BcmFactoredSystem>(
+        BcmFactoredSystem{std::move(sys.constrained), {}, {}, {}, std::move(*solver)});
     system_->a_pc.swap(sys.a_pc);
     system_->lap.swap(sys.lap);
     system_->outer.swap(sys.outer);
