@@ -4,6 +4,7 @@
 
 #include "freeform/common/error.h"
 #include "freeform/common/huge_pages.h"
+#include "freeform/common/serial_openmp.h"
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
@@ -163,6 +164,7 @@ struct SparseSolver::Impl {
           s.cholmod().nmethods = 1;
           s.cholmod().method[0].ordering = CHOLMOD_METIS;
         }
+        const SerialOpenMp serial_teams;  // CHOLMOD's 4-thread teams per supernode (serial_openmp.h)
         s.analyzePattern(a);
         if (!s.has_factor() || s.cholmod().status < CHOLMOD_OK)
           return "the symbolic analysis failed (CHOLMOD status " + std::to_string(s.cholmod().status) + ")";
