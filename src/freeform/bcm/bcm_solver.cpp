@@ -106,9 +106,9 @@ VertexData<Vec3> unit_scaled(const VertexData<Vec3>& p) {
 // A failed factorization with the likely cause: degenerate triangles carry no stiffness, so the
 // rows of vertices surrounded by them vanish. A_pp moves into the solver: the basis, the
 // refinement and the nonlinear model need only A_pc and the unassembled operator.
-SparseSolver factor_or_explain(BcmSystem& sys, const BcmSettings& settings) {
+SparseSolver factor_or_explain(BcmSystem& sys, const BcmSettings& settings, CholeskyAnalysis* analysis) {
   try {
-    return SparseSolver(std::move(sys.a_pp), sys.symmetric, settings.solver);
+    return SparseSolver(std::move(sys.a_pp), sys.symmetric, settings.solver, analysis);
   } catch (const SolverError& e) {
     if (sys.degenerate_faces == 0)
       throw SolverError(std::string(e.what()) + "; the support's operator is singular: check the support for coincident "
@@ -136,11 +136,13 @@ double position_error(const Eigen::VectorXd& column_error, const std::vector<std
 
 BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                      const Progress& progress, const VertexData<Vec3>* operator_positions, bool keep_system,
-                     RowOrder rows)
+                     RowOrder rows, BcmAnalysis* analysis)
     : n_vertices_(mesh.n_vertices()) {
   if (keep_system && rows != RowOrder::BreadthFirst)
     throw InvalidInput("BcmSolver: a kept system has breadth-first rows; RowOrder::ByIndex needs keep_system false");
   progress.step("assembly", 0.0);
+  std::optional<BcmAnalysis> own_analysis;  // ordering the pattern on another thread meanwhile
+  if (!analysis) analysis = &own_analysis.emplace(mesh, regions, settings);
   // Anisotropic bending: the operator's cotangents and areas come from the equalized
   // conformal map of the support grown by k rings (DESIGN.md section 5).
   AnisotropicDomain domain;
@@ -168,8 +170,10 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   progress.step("factorization", 0.15);
 
   t = Clock::now();
-  std::optional<SparseSolver> solver = factor_or_explain(sys, settings);
+  std::optional<SparseSolver> solver = factor_or_explain(sys, settings, analysis->get());
   stats_.factorization_ms = ms_since(t);
+  stats_.analysis_ahead = solver->reused_analysis();
+  stats_.analysis_ahead_ms = analysis->ms();
   stats_.solver = solver->name();
   progress.step("basis", 0.6);
 

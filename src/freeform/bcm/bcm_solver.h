@@ -7,6 +7,7 @@
 // folded into the constant part.
 #pragma once
 
+#include "freeform/bcm/bcm_analysis.h"
 #include "freeform/bcm/bcm_system.h"
 #include "freeform/bcm/settings.h"
 #include "freeform/common/progress.h"
@@ -35,6 +36,8 @@ struct BcmStats {
   int free = 0;            // P
   int constrained = 0;     // C: constrained vertices in the system
   double assembly_ms = 0, factorization_ms = 0, basis_ms = 0;  // basis: the first solve
+  bool analysis_ahead = false;  // the factorization used the symbolic analysis run ahead
+  double analysis_ahead_ms = 0;  // that analysis' own time, on its thread (overlapping the above)
   double residual = 0;     // max over right-hand sides of |A_pp X - B| / |B| (relative)
   // Iterative refinement against the unassembled operator (bcm/refinement.h): steps, whether
   // it met its tolerance, and the forward-error estimate it leaves (the last correction, as a
@@ -85,9 +88,11 @@ class BcmSolver {
   // its smooth base here, so the detail's metric does not steer the bend (docs/multires.md).
   // keep_system: keep the factored system for release_system() (the nonlinear model); its
   // rows are breadth-first, so rows must then be RowOrder::BreadthFirst (else InvalidInput).
+  // `analysis`: the symbolic factorization started ahead by the caller (bcm_analysis.h) for
+  // this mesh, regions and settings; null: the solver starts one itself before the assembly.
   BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, const Progress& progress = {},
             const VertexData<Vec3>* operator_positions = nullptr, bool keep_system = false,
-            RowOrder rows = RowOrder::BreadthFirst);
+            RowOrder rows = RowOrder::BreadthFirst, BcmAnalysis* analysis = nullptr);
 
   int n_free() const;
   int n_movable() const;  // number of transforms evaluate() expects, in handle order

@@ -98,7 +98,9 @@ struct Csr {
 };
 
 // Rows [0, rows) of lhs * diag(w) * rhs (Gustavson, dense accumulator, sorted rows). Columns of
-// lhs beyond rhs.rows are empty rows of rhs (vertices whose row is never needed).
+// lhs beyond rhs.rows are empty rows of rhs (vertices whose row is never needed). The pattern is
+// structural: exact zeros (a right angle's cotangent, lambda = 0) stay, so A_pp's pattern
+// follows from the connectivity alone and can be ordered ahead (bcm_analysis.h).
 Csr scaled_product(const Csr& lhs, const Eigen::VectorXd& w, const Csr& rhs, int rows) {
   Csr out;
   out.rows = rows;
@@ -119,8 +121,7 @@ Csr scaled_product(const Csr& lhs, const Eigen::VectorXd& w, const Csr& rhs, int
     for (int t = lhs.outer[static_cast<std::size_t>(i)]; t < lhs.outer[static_cast<std::size_t>(i) + 1]; ++t) {
       const int j = lhs.inner[static_cast<std::size_t>(t)];
       if (j >= rhs.rows) continue;
-      const double f = lhs.value[static_cast<std::size_t>(t)] * w[j];
-      if (f == 0.0) continue;
+      const double f = lhs.value[static_cast<std::size_t>(t)] * w[j];  // 0 kept: see above
       for (int u = rhs.outer[static_cast<std::size_t>(j)]; u < rhs.outer[static_cast<std::size_t>(j) + 1]; ++u) {
         const auto col = static_cast<std::size_t>(rhs.inner[static_cast<std::size_t>(u)]);
         if (mark[col] != i) {

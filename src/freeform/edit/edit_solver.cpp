@@ -70,6 +70,8 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
   if (!nonlinear && !edit.allow_unanchored) refuse_unanchored_closed_components(mesh, regions_);
   for (Vertex v : edit.support)
     if (v.idx() >= 0 && v.idx() < mesh.n_vertices() && !mesh.halfedge(v).is_valid()) ++stats_.isolated_ignored;
+  // The BCM system's ordering runs on another thread during the operator shape (bcm_analysis.h).
+  BcmAnalysis analysis(mesh, regions_, edit.settings);
   std::optional<OperatorShape> shape;
   if (edit.multiresolution) shape = base_operator_shape(mesh, regions_, edit.settings, progress);
   // Detail that overhangs its base (an ear, fingers, a snout) does not ride on the base's
@@ -81,11 +83,11 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
   if (edit.multiresolution && !detail_by_model) {
     MultiresOptions options;
     if (nonlinear) options.nonlinear = edit.nonlinear;
-    multires_ = std::make_unique<MultiresSolver>(mesh, regions_, edit.settings, options, progress, *shape);
+    multires_ = std::make_unique<MultiresSolver>(mesh, regions_, edit.settings, options, progress, *shape, &analysis);
   } else {
     // The plain linear frame scatters rows into the mesh: rows in vertex order (RowOrder).
     bcm_ = std::make_unique<BcmSolver>(mesh, regions_, edit.settings, progress, nullptr, nonlinear,
-                                       nonlinear ? RowOrder::BreadthFirst : RowOrder::ByIndex);
+                                       nonlinear ? RowOrder::BreadthFirst : RowOrder::ByIndex, &analysis);
     if (nonlinear) nonlinear_ = std::make_unique<NonlinearSolver>(mesh, regions_, *bcm_, mesh.positions(), edit.nonlinear);
   }
   stats_.bcm = bcm().stats();

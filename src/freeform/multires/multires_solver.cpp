@@ -46,9 +46,10 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
     : MultiresSolver(mesh, regions, settings, options, progress, base_operator_shape(mesh, regions, settings, progress)) {}
 
 MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
-                               const MultiresOptions& options, const Progress& progress, const OperatorShape& shape)
+                               const MultiresOptions& options, const Progress& progress, const OperatorShape& shape,
+                               BcmAnalysis* analysis)
     : bcm_(mesh, regions, settings, progress, shape.positions.size() > 0 ? &shape.positions : nullptr,
-           validated(options).nonlinear.has_value()),
+           validated(options).nonlinear.has_value(), RowOrder::BreadthFirst, analysis),
       n_vertices_(mesh.n_vertices()) {
   stats_.smooth_operator = shape.positions.size() > 0;
   stats_.operator_fallback = shape.fallback;

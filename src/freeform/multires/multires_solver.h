@@ -89,9 +89,10 @@ class MultiresSolver {
   // Cancelled when progress.cancel is set (checked between stages, "detail" last).
   MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                  const MultiresOptions& options = {}, const Progress& progress = {});
-  // The same with the base's operator shape already computed (base_operator_shape).
+  // The same with the base's operator shape already computed (base_operator_shape) and,
+  // optionally, the BCM system's symbolic analysis started before it (bcm/bcm_analysis.h).
   MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, const MultiresOptions& options,
-                 const Progress& progress, const OperatorShape& shape);
+                 const Progress& progress, const OperatorShape& shape, BcmAnalysis* analysis = nullptr);
 
   const BcmSolver& bcm() const { return bcm_; }
   int n_movable() const { return bcm_.n_movable(); }

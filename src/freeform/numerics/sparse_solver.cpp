@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <string>
 #include <type_traits>
@@ -66,6 +67,7 @@ using Lu = Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>>;
 struct Cholmod : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
   bool has_factor() const { return this->m_cholmodFactor != nullptr; }
 };
+using CholmodPtr = std::unique_ptr<Cholmod>;  // Eigen's CHOLMOD objects cannot be moved
 // 64-bit indices (umfpack_dl_*): with 32-bit ones the LU of a 300k-row k = 3 system ran out of
 // index space and fell back to Eigen's SparseLU (132 s instead of seconds).
 using UmfMat = Eigen::SparseMatrix<double, Eigen::ColMajor, SuiteSparse_long>;
@@ -104,14 +106,60 @@ constexpr Eigen::Index kMetisOnlyRows = 250000;
 
 bool is_cholesky(SolverKind k) { return k == SolverKind::CholmodSupernodal || k == SolverKind::EigenLDLT; }
 
+// FNV-1a over a compressed matrix's pattern: SparseSolver checks that A is the matrix a
+// CholeskyAnalysis was made for.
+std::uint64_t pattern_hash(const SpMat& a) {
+  std::uint64_t h = 1469598103934665603ULL;
+  auto mix = [&h](std::int64_t v) {
+    h ^= static_cast<std::uint64_t>(v);
+    h *= 1099511628211ULL;
+  };
+  mix(a.rows());
+  mix(a.cols());
+  for (Eigen::Index j = 0; j <= a.outerSize(); ++j) mix(a.outerIndexPtr()[j]);
+  for (Eigen::Index t = 0; t < a.nonZeros(); ++t) mix(a.innerIndexPtr()[t]);
+  return h;
+}
+
+#if FREEFORM_HAVE_SUITESPARSE
+// A CHOLMOD supernodal solver analyzed for `lower` (a lower triangle; values unused).
+CholmodPtr analyzed_cholmod(const SpMat& lower) {
+  use_huge_pages_in_suitesparse();
+  auto s = std::make_unique<Cholmod>();
+  s->cholmod().print = 0;  // failures are reported through SolverError, not stderr
+  s->cholmod().supernodal = CHOLMOD_SUPERNODAL;
+  // CHOLMOD's default tries METIS after AMD when AMD's flops per factor entry pass 500.
+  // On Laplacian-like stencils (a k = 1 system, the multiresolution membrane) that happens
+  // near 1M rows, where METIS took 8.6 s to save 1.5 s of factorization: AMD alone. On wide
+  // k >= 2 stencils METIS pays for itself: CHOLMOD chose it for k = 2 at 300k rows and k = 3
+  // from 140k on, after a trial AMD ordering that cost 0.3-0.4 s at 300k and 3.4 s at 1M;
+  // from 250k rows on, METIS alone.
+  const Eigen::Index nonzeros = 2 * lower.nonZeros() - lower.rows();
+  if (nonzeros < kLaplacianLikeNonzeros * lower.rows()) {
+    s->cholmod().nmethods = 1;
+    s->cholmod().method[0].ordering = CHOLMOD_AMD;
+  } else if (lower.rows() >= kMetisOnlyRows) {
+    s->cholmod().nmethods = 1;
+    s->cholmod().method[0].ordering = CHOLMOD_METIS;
+  }
+  const SerialOpenMp serial_teams;  // CHOLMOD's 4-thread teams per supernode (serial_openmp.h)
+  s->analyzePattern(lower);
+  if (!s->has_factor() || s->cholmod().status < CHOLMOD_OK) return nullptr;
+  return s;
+}
+#endif
+
 }  // namespace
 
 struct SparseSolver::Impl {
   SpMat a;            // kept for the residual check
   bool lower = false;  // a holds only its lower triangle (every solver tried is a Cholesky one)
+  bool reused_analysis = false;
   SolverKind kind = SolverKind::Auto;
 #if FREEFORM_HAVE_SUITESPARSE
-  std::variant<std::monostate, Ldlt, Lu, Cholmod, Umf> f;
+  std::variant<std::monostate, Ldlt, Lu, CholmodPtr, Umf> f;
+  CholmodPtr ahead;  // from a CholeskyAnalysis, used if A has its pattern
+  std::uint64_t ahead_hash = 0;
   UmfMat a_long;  // UMFPACK reads the matrix again in every solve, so it must stay alive
 #else
   std::variant<std::monostate, Ldlt, Lu> f;
@@ -147,29 +195,17 @@ struct SparseSolver::Impl {
       }
 #if FREEFORM_HAVE_SUITESPARSE
       case SolverKind::CholmodSupernodal: {
-        auto& s = f.emplace<Cholmod>();
-        s.cholmod().print = 0;  // failures are reported through SolverError, not stderr
-        s.cholmod().supernodal = CHOLMOD_SUPERNODAL;
-        // CHOLMOD's default tries METIS after AMD when AMD's flops per factor entry pass 500.
-        // On Laplacian-like stencils (a k = 1 system, the multiresolution membrane) that
-        // happens near 1M rows, where METIS took 8.6 s to save 1.5 s of factorization: AMD
-        // alone. On wide k >= 2 stencils METIS pays for itself: CHOLMOD chose it for k = 2 at
-        // 300k rows and k = 3 from 140k on, after a trial AMD ordering that cost 0.3-0.4 s at
-        // 300k and 3.4 s at 1M; from 250k rows on, METIS alone.
-        const Eigen::Index nonzeros = lower ? 2 * a.nonZeros() - a.rows() : a.nonZeros();
-        if (nonzeros < kLaplacianLikeNonzeros * a.rows()) {
-          s.cholmod().nmethods = 1;
-          s.cholmod().method[0].ordering = CHOLMOD_AMD;
-        } else if (a.rows() >= kMetisOnlyRows) {
-          s.cholmod().nmethods = 1;
-          s.cholmod().method[0].ordering = CHOLMOD_METIS;
+        auto& s = f.emplace<CholmodPtr>();
+        if (ahead && ahead_hash == pattern_hash(a)) {
+          s = std::move(ahead);
+          reused_analysis = true;
+        } else {
+          s = analyzed_cholmod(a);
+          if (!s) return "the symbolic analysis failed";
         }
         const SerialOpenMp serial_teams;  // CHOLMOD's 4-thread teams per supernode (serial_openmp.h)
-        s.analyzePattern(a);
-        if (!s.has_factor() || s.cholmod().status < CHOLMOD_OK)
-          return "the symbolic analysis failed (CHOLMOD status " + std::to_string(s.cholmod().status) + ")";
-        s.factorize(a);
-        if (s.info() != Eigen::Success || s.cholmod().status < CHOLMOD_OK)
+        s->factorize(a);
+        if (s->info() != Eigen::Success || s->cholmod().status < CHOLMOD_OK)
           return "the matrix is singular or not positive definite";
         return {};
       }
@@ -194,8 +230,43 @@ struct SparseSolver::Impl {
   }
 };
 
-SparseSolver::SparseSolver(SpMat&& matrix, bool symmetric, SolverKind kind) : impl_(std::make_unique<Impl>()) {
+struct CholeskyAnalysis::Impl {
+#if FREEFORM_HAVE_SUITESPARSE
+  CholmodPtr solver;
+#endif
+  std::uint64_t hash = 0;
+};
+
+CholeskyAnalysis::CholeskyAnalysis(const SpMat& lower_pattern) : impl_(std::make_unique<Impl>()) {
+#if FREEFORM_HAVE_SUITESPARSE
+  if (lower_pattern.rows() != lower_pattern.cols() || !lower_pattern.isCompressed())
+    throw InvalidInput("CholeskyAnalysis: the pattern must be square and compressed");
+  impl_->hash = pattern_hash(lower_pattern);
+  impl_->solver = analyzed_cholmod(lower_pattern);
+#else
+  (void)lower_pattern;
+#endif
+}
+CholeskyAnalysis::~CholeskyAnalysis() = default;
+bool CholeskyAnalysis::ok() const {
+#if FREEFORM_HAVE_SUITESPARSE
+  return impl_->solver != nullptr;
+#else
+  return false;
+#endif
+}
+
+SparseSolver::SparseSolver(SpMat&& matrix, bool symmetric, SolverKind kind, CholeskyAnalysis* analysis)
+    : impl_(std::make_unique<Impl>()) {
   impl_->a.swap(matrix);
+#if FREEFORM_HAVE_SUITESPARSE
+  if (analysis && analysis->impl_) {
+    impl_->ahead = std::move(analysis->impl_->solver);
+    impl_->ahead_hash = analysis->impl_->hash;
+  }
+#else
+  (void)analysis;
+#endif
   SpMat& a = impl_->a;
   if (a.rows() != a.cols() || a.rows() == 0)
     throw InvalidInput("SparseSolver: the matrix must be square and non-empty (got " + std::to_string(a.rows()) + " x " +
@@ -241,7 +312,10 @@ SparseSolver::SparseSolver(SpMat&& matrix, bool symmetric, SolverKind kind) : im
   std::string reasons;
   for (SolverKind k : order) {
     const std::string why = impl_->try_factor(k);
-    if (why.empty()) return;
+    if (why.empty()) {
+      impl_->ahead.reset();  // an analysis for another pattern
+      return;
+    }
     reasons += std::string(reasons.empty() ? "" : "; ") + kind_name(k) + ": " + why;
   }
   impl_->f = std::monostate{};
@@ -265,6 +339,9 @@ Eigen::MatrixXd SparseSolver::solve(const Eigen::MatrixXd& b, bool check_residua
         using S = std::decay_t<decltype(s)>;
         if constexpr (std::is_same_v<S, std::monostate>) {
           ok = false;
+        } else if constexpr (std::is_same_v<S, CholmodPtr>) {
+          x = s->solve(b);
+          ok = s->info() == Eigen::Success;
         } else {
           x = s.solve(b);
           ok = s.info() == Eigen::Success;
@@ -298,6 +375,7 @@ double SparseSolver::relative_residual(const Eigen::MatrixXd& x, const Eigen::Ma
 }
 
 SolverKind SparseSolver::kind() const { return impl_->kind; }
+bool SparseSolver::reused_analysis() const { return impl_->reused_analysis; }
 std::string SparseSolver::name() const { return kind_name(impl_->kind); }
 
 }  // namespace freeform

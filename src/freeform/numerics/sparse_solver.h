@@ -16,6 +16,22 @@ namespace freeform {
 // True if |A - A^T| <= tol * max|A| entrywise (A square, compressed).
 bool is_symmetric(const Eigen::SparseMatrix<double>& a, double tol = 1e-12);
 
+// The symbolic half of a Cholesky SparseSolver: CHOLMOD's fill-reducing ordering and supernodal
+// structure, from a pattern alone (a lower triangle, compressed; values unused). It can run on
+// another thread while A's values are assembled (bcm/bcm_analysis.h). SparseSolver uses it when
+// CHOLMOD factors A and A's lower triangle has exactly this pattern; otherwise it analyzes A.
+class CholeskyAnalysis {
+ public:
+  explicit CholeskyAnalysis(const Eigen::SparseMatrix<double>& lower_pattern);
+  ~CholeskyAnalysis();
+  bool ok() const;  // false: no SuiteSparse in this build, the analysis failed, or already used
+
+ private:
+  friend class SparseSolver;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 class SparseSolver {
  public:
   // Factors A. `symmetric` selects the family; `kind` forces one solver (Auto: the fast one,
@@ -27,7 +43,9 @@ class SparseSolver {
   // The solver takes A's storage (kept for residuals; a Cholesky solver keeps only its lower
   // triangle): pass std::move(a), or a copy the caller still needs. Eigen 3.4's SparseMatrix has
   // no move constructor, so a by-value A would be copied (443 MB twice at 1M free, k = 3).
-  SparseSolver(Eigen::SparseMatrix<double>&& a, bool symmetric, SolverKind kind = SolverKind::Auto);
+  // `analysis` (optional) is consumed: its CHOLMOD object becomes this solver's if A matches.
+  SparseSolver(Eigen::SparseMatrix<double>&& a, bool symmetric, SolverKind kind = SolverKind::Auto,
+               CholeskyAnalysis* analysis = nullptr);
   ~SparseSolver();
   SparseSolver(SparseSolver&&) noexcept;
   SparseSolver& operator=(SparseSolver&&) noexcept;
@@ -43,6 +61,7 @@ class SparseSolver {
 
   SolverKind kind() const;
   std::string name() const;  // e.g. "cholmod-supernodal-llt"
+  bool reused_analysis() const;  // the factorization used the CholeskyAnalysis passed in
 
  private:
   struct Impl;

@@ -1,0 +1,47 @@
+// The symbolic half of the BCM factorization, started ahead on a thread of its own. A_pp's
+// pattern depends only on the connectivity, the free set and k, not on positions or smoothness,
+// so CHOLMOD can order it (METIS: 15 s at 1M free, k = 3, single-threaded) while the operator
+// shape, the anisotropic parametrization and the assembly run on the caller's thread.
+#pragma once
+
+#include "freeform/bcm/settings.h"
+#include "freeform/mesh/mesh.h"
+#include "freeform/numerics/sparse_solver.h"
+#include "freeform/regions/regions.h"
+
+#include <Eigen/SparseCore>
+
+#include <future>
+#include <memory>
+
+namespace freeform {
+
+// The lower triangle of A_pp's pattern (values 0), rows and columns in assemble_bcm_system's
+// free order: (i, j) for free vertices at most k edges apart (the walks of S_k = L W ... L).
+Eigen::SparseMatrix<double> bcm_lower_pattern(const Mesh& mesh, const Regions& regions, int order);
+
+class BcmAnalysis {
+ public:
+  // Starts only where it can pay off: at least kMinFree free vertices, a solver setting that
+  // allows CHOLMOD and a system expected to be symmetric (k <= 2, or every boundary
+  // smoothness 0 or 2 at k = 3: DESIGN.md section 3). mesh and regions must outlive this.
+  BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSettings& settings);
+  ~BcmAnalysis();  // waits for the thread (CHOLMOD cannot be interrupted)
+  BcmAnalysis(const BcmAnalysis&) = delete;
+  BcmAnalysis& operator=(const BcmAnalysis&) = delete;
+
+  bool started() const { return started_; }
+  // Waits for the analysis; null if none was started or it failed (the solver then analyzes A).
+  CholeskyAnalysis* get();
+  double ms() const { return ms_; }  // the thread's time (pattern and analysis), after get()
+
+  static constexpr int kMinFree = 20000;  // below, CHOLMOD's analysis takes < 0.1 s
+
+ private:
+  bool started_ = false;
+  std::future<std::unique_ptr<CholeskyAnalysis>> future_;
+  std::unique_ptr<CholeskyAnalysis> result_;
+  double ms_ = 0;
+};
+
+}  // namespace freeform

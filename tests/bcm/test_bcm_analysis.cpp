@@ -1,0 +1,120 @@
+// bcm_analysis.h: the pattern predicted from the connectivity is exactly the assembled A_pp's
+// lower triangle (irregular meshes, right angles, supports on the mesh boundary, k = 1..3,
+// lambda = 0); the solver uses the analysis run ahead and gives the same result as with its
+// own, and it falls back to its own when handed an analysis of another pattern.
+#include "bcm_fixtures.h"
+
+#include "freeform/bcm/bcm_analysis.h"
+#include "freeform/bcm/bcm_system.h"
+
+namespace freeform::test {
+namespace {
+
+using SpMat = Eigen::SparseMatrix<double>;
+
+void expect_same_pattern(const SpMat& want, const SpMat& got) {
+  ASSERT_EQ(want.rows(), got.rows());
+  ASSERT_EQ(want.cols(), got.cols());
+  ASSERT_EQ(want.nonZeros(), got.nonZeros());
+  for (Eigen::Index j = 0; j <= want.cols(); ++j) ASSERT_EQ(want.outerIndexPtr()[j], got.outerIndexPtr()[j]) << j;
+  for (Eigen::Index t = 0; t < want.nonZeros(); ++t) ASSERT_EQ(want.innerIndexPtr()[t], got.innerIndexPtr()[t]) << t;
+}
+
+TEST(BcmAnalysis, PatternIsTheAssembledLowerTriangle) {
+  const BumpyScene bumpy;
+  const PlanarDisk disk;  // jittered, irregular valences
+  const Mesh sphere = Mesh::from_soup(make_icosphere(3));
+  std::vector<Vertex> cap, cap_handle;
+  for (Vertex v : sphere.vertices()) {
+    if (sphere.position(v).z() > -0.3) cap.push_back(v);
+    if (sphere.position(v).z() > 0.9) cap_handle.push_back(v);
+  }
+  const Mesh plane = Mesh::from_soup(make_plane(12, 12));
+  std::vector<Vertex> left;  // free vertices on the mesh boundary
+  for (Vertex v : plane.vertices())
+    if (plane.position(v).x() < 0.6) left.push_back(v);
+  struct Case {
+    const Mesh& mesh;
+    Regions regions;
+  };
+  const Case cases[] = {
+      {bumpy.mesh, bumpy.regions()},
+      {disk.mesh, Regions(disk.mesh, disk.rings(0, 8), {{disk.rings(0, 1), true}})},
+      {sphere, Regions(sphere, cap, {{cap_handle, true}})},
+      {plane, Regions(plane, left, {{within(plane, Vec3(0.2, 0.5, 0), 0.1), true}})},
+  };
+  for (const Case& c : cases)
+    for (int k = 1; k <= 3; ++k)
+      for (double outer : {Smoothness::kDefault, 0.0}) {  // c = 0: lambda = 0 on the fixed ring
+        BcmSettings s;
+        s.order = k;
+        s.smoothness.outer = outer;
+        const SpMat a = assemble_bcm_system(c.mesh, c.mesh.positions(), c.regions, s).a_pp;
+        const SpMat lower = a.triangularView<Eigen::Lower>();
+        SCOPED_TRACE("case " + std::to_string(&c - cases) + ", k = " + std::to_string(k) + ", outer " +
+                     std::to_string(outer));
+        expect_same_pattern(lower, bcm_lower_pattern(c.mesh, c.regions, k));
+      }
+}
+
+// A 150 x 150 plane held at its border: 22k free vertices, above BcmAnalysis::kMinFree.
+struct LargePlane {
+  Mesh mesh = Mesh::from_soup(make_bumpy_plane(150, 150, 0.05, 2.0));
+  std::vector<Vertex> inside(double margin) const {
+    std::vector<Vertex> out;
+    for (Vertex v : mesh.vertices()) {
+      const Vec3 p = mesh.position(v);
+      if (p.x() > margin && p.x() < 1 - margin && p.y() > margin && p.y() < 1 - margin) out.push_back(v);
+    }
+    return out;
+  }
+  Regions regions(double margin) const {
+    return Regions(mesh, inside(margin), {{within(mesh, Vec3(0.5, 0.5, 0), 0.04), true}});
+  }
+};
+
+TEST(BcmAnalysis, SolverUsesItAndFallsBackForAnotherPattern) {
+  const LargePlane p;
+  const Regions regions = p.regions(0.001);
+  ASSERT_GE(regions.n_free(), BcmAnalysis::kMinFree);
+  BcmSettings s;
+  s.order = 2;
+  const BcmSolver ahead(p.mesh, regions, s);
+  EXPECT_TRUE(ahead.stats().analysis_ahead);
+  EXPECT_GT(ahead.stats().analysis_ahead_ms, 0.0);
+
+  // An analysis of a smaller support (another pattern, still large enough to be started).
+  const Regions other = p.regions(0.02);
+  BcmAnalysis wrong(p.mesh, other, s);
+  ASSERT_TRUE(wrong.started());
+  const BcmSolver own(p.mesh, regions, s, {}, nullptr, false, RowOrder::BreadthFirst, &wrong);
+  EXPECT_FALSE(own.stats().analysis_ahead);
+
+  const Eigen::Affine3d t(Eigen::Translation3d(0.0, 0.0, 0.2) * Eigen::AngleAxisd(0.4, Vec3::UnitX()));
+  RowMatrix x1(ahead.n_free(), 3), x2(own.n_free(), 3);
+  ahead.evaluate(std::span(&t, 1), x1);
+  own.evaluate(std::span(&t, 1), x2);
+  EXPECT_LT((x1 - x2).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_GT(x1.col(2).maxCoeff() - x1.col(2).minCoeff(), 0.15);  // lifted: the rest bumps span 0.1
+}
+
+TEST(BcmAnalysis, StartsOnlyForLargeSymmetricCholeskySystems) {
+  const LargePlane p;
+  const Regions large = p.regions(0.001);
+  const BumpyScene bumpy;
+  const Regions small = bumpy.regions();
+  BcmSettings s;
+  s.order = 3;
+  EXPECT_TRUE(BcmAnalysis(p.mesh, large, s).started());
+  EXPECT_FALSE(BcmAnalysis(bumpy.mesh, small, s).started());
+  s.smoothness.outer = 0.0;  // lambda_1 = lambda_2 = 0: still symmetric
+  EXPECT_TRUE(BcmAnalysis(p.mesh, large, s).started());
+  s.smoothness.outer = 1.0;  // k = 3, c = 1: unsymmetric (LU)
+  EXPECT_FALSE(BcmAnalysis(p.mesh, large, s).started());
+  s.smoothness.outer = Smoothness::kDefault;
+  s.solver = SolverKind::Umfpack;
+  EXPECT_FALSE(BcmAnalysis(p.mesh, large, s).started());
+}
+
+}  // namespace
+}  // namespace freeform::test
