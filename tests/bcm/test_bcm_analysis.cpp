@@ -57,7 +57,9 @@ TEST(BcmAnalysis, PatternIsTheAssembledLowerTriangle) {
       }
 }
 
-// A 150 x 150 plane held at its border: 22k free vertices, above BcmAnalysis::kMinFree.
+// A 150 x 150 plane held at its border: 22k free vertices (kSmall), below BcmAnalysis::kMinFree
+// to keep the test quick: the analyses here are started with that lower threshold.
+constexpr int kSmall = 20000;
 struct LargePlane {
   Mesh mesh = Mesh::from_soup(make_bumpy_plane(150, 150, 0.05, 2.0));
   std::vector<Vertex> inside(double margin) const {
@@ -76,16 +78,17 @@ struct LargePlane {
 TEST(BcmAnalysis, SolverUsesItAndFallsBackForAnotherPattern) {
   const LargePlane p;
   const Regions regions = p.regions(0.001);
-  ASSERT_GE(regions.n_free(), BcmAnalysis::kMinFree);
+  ASSERT_GE(regions.n_free(), kSmall);
   BcmSettings s;
   s.order = 2;
-  const BcmSolver ahead(p.mesh, regions, s);
+  BcmAnalysis mine(p.mesh, regions, s, kSmall);
+  const BcmSolver ahead(p.mesh, regions, s, {}, nullptr, false, RowOrder::BreadthFirst, &mine);
   EXPECT_TRUE(ahead.stats().analysis_ahead);
   EXPECT_GT(ahead.stats().analysis_ahead_ms, 0.0);
 
   // An analysis of a smaller support (another pattern, still large enough to be started).
   const Regions other = p.regions(0.02);
-  BcmAnalysis wrong(p.mesh, other, s);
+  BcmAnalysis wrong(p.mesh, other, s, kSmall);
   ASSERT_TRUE(wrong.started());
   const BcmSolver own(p.mesh, regions, s, {}, nullptr, false, RowOrder::BreadthFirst, &wrong);
   EXPECT_FALSE(own.stats().analysis_ahead);
@@ -105,15 +108,16 @@ TEST(BcmAnalysis, StartsOnlyForLargeSymmetricCholeskySystems) {
   const Regions small = bumpy.regions();
   BcmSettings s;
   s.order = 3;
-  EXPECT_TRUE(BcmAnalysis(p.mesh, large, s).started());
+  EXPECT_TRUE(BcmAnalysis(p.mesh, large, s, kSmall).started());
   EXPECT_FALSE(BcmAnalysis(bumpy.mesh, small, s).started());
+  EXPECT_FALSE(BcmAnalysis(p.mesh, large, s).started());  // 22k free: below kMinFree
   s.smoothness.outer = 0.0;  // lambda_1 = lambda_2 = 0: still symmetric
-  EXPECT_TRUE(BcmAnalysis(p.mesh, large, s).started());
+  EXPECT_TRUE(BcmAnalysis(p.mesh, large, s, kSmall).started());
   s.smoothness.outer = 1.0;  // k = 3, c = 1: unsymmetric (LU)
-  EXPECT_FALSE(BcmAnalysis(p.mesh, large, s).started());
+  EXPECT_FALSE(BcmAnalysis(p.mesh, large, s, kSmall).started());
   s.smoothness.outer = Smoothness::kDefault;
   s.solver = SolverKind::Umfpack;
-  EXPECT_FALSE(BcmAnalysis(p.mesh, large, s).started());
+  EXPECT_FALSE(BcmAnalysis(p.mesh, large, s, kSmall).started());
 }
 
 }  // namespace

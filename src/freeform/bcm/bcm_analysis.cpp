@@ -57,8 +57,8 @@ Eigen::SparseMatrix<double> bcm_lower_pattern(const Mesh& mesh, const Regions& r
       n, n, static_cast<Eigen::Index>(inner.size()), outer.data(), inner.data(), zeros.data()));
 }
 
-BcmAnalysis::BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSettings& settings) {
-  if (regions.n_free() < kMinFree || !expect_symmetric(settings)) return;
+BcmAnalysis::BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, int min_free) {
+  if (regions.n_free() < min_free || !expect_symmetric(settings)) return;
   if (settings.solver != SolverKind::Auto && settings.solver != SolverKind::CholmodSupernodal) return;
   const int k = settings.order;
   started_ = true;

@@ -22,10 +22,10 @@ Eigen::SparseMatrix<double> bcm_lower_pattern(const Mesh& mesh, const Regions& r
 
 class BcmAnalysis {
  public:
-  // Starts only where it can pay off: at least kMinFree free vertices, a solver setting that
+  // Starts only where it can pay off: at least min_free free vertices, a solver setting that
   // allows CHOLMOD and a system expected to be symmetric (k <= 2, or every boundary
   // smoothness 0 or 2 at k = 3: DESIGN.md section 3). mesh and regions must outlive this.
-  BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSettings& settings);
+  BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, int min_free = kMinFree);
   ~BcmAnalysis();  // waits for the thread (CHOLMOD cannot be interrupted)
   BcmAnalysis(const BcmAnalysis&) = delete;
   BcmAnalysis& operator=(const BcmAnalysis&) = delete;
@@ -35,7 +35,10 @@ class BcmAnalysis {
   CholeskyAnalysis* get();
   double ms() const { return ms_; }  // the thread's time (pattern and analysis), after get()
 
-  static constexpr int kMinFree = 20000;  // below, CHOLMOD's analysis takes < 0.1 s
+  // Multiresolution on the subdivided bunny, k = 3, precompute with / without: 35k free 1.3-1.4 /
+  // 0.9-1.2 s (the thread competes with the operator shape), 140k 5.7-5.9 / 6.7-7.2 s, 300k
+  // 13.6 / 17.0-17.3 s, 1M 45-49 / 58 s (docs/benchmarks.md, "Stop 34").
+  static constexpr int kMinFree = 100000;
 
  private:
   bool started_ = false;
