@@ -122,8 +122,9 @@ std::uint64_t pattern_hash(const SpMat& a) {
 }
 
 #if FREEFORM_HAVE_SUITESPARSE
-// A CHOLMOD supernodal solver analyzed for `lower` (a lower triangle; values unused).
-CholmodPtr analyzed_cholmod(const SpMat& lower) {
+// A CHOLMOD supernodal solver analyzed for `lower` (a lower triangle; values unused); null on
+// failure, with CHOLMOD's status in *status.
+CholmodPtr analyzed_cholmod(const SpMat& lower, int* status = nullptr) {
   use_huge_pages_in_suitesparse();
   auto s = std::make_unique<Cholmod>();
   s->cholmod().print = 0;  // failures are reported through SolverError, not stderr
@@ -144,6 +145,7 @@ CholmodPtr analyzed_cholmod(const SpMat& lower) {
   }
   const SerialOpenMp serial_teams;  // CHOLMOD's 4-thread teams per supernode (serial_openmp.h)
   s->analyzePattern(lower);
+  if (status) *status = s->cholmod().status;
   if (!s->has_factor() || s->cholmod().status < CHOLMOD_OK) return nullptr;
   return s;
 }
@@ -200,8 +202,11 @@ struct SparseSolver::Impl {
           s = std::move(ahead);
           reused_analysis = true;
         } else {
-          s = analyzed_cholmod(a);
-          if (!s) return "the symbolic analysis failed";
+          int status = CHOLMOD_OK;
+          s = analyzed_cholmod(a, &status);
+          if (!s)
+            return "the symbolic analysis failed (CHOLMOD status " + std::to_string(status) +
+                   (status == CHOLMOD_OUT_OF_MEMORY ? ": out of memory)" : ")");
         }
         const SerialOpenMp serial_teams;  // CHOLMOD's 4-thread teams per supernode (serial_openmp.h)
         s->factorize(a);
