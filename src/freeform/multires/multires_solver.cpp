@@ -157,8 +157,8 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
 #pragma omp parallel
   {
     std::vector<int> frontier, next, cand;
-    // Per-thread marks (the free vertex i that saw a vertex / face last): a linear search over
-    // the candidates was a third of the encoding (8 s at 1M free).
+    // Per-thread marks (the free vertex i that saw a vertex / face last) instead of linear
+    // searches over the candidates: 0.5-0.9 s of the encoding's 8 s at 1M free.
     std::vector<int> vertex_seen, face_seen;
     if (normal_encoding) {
       vertex_seen.assign(static_cast<std::size_t>(mesh.n_vertices()), -1);
