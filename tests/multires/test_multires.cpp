@@ -121,6 +121,33 @@ TEST(NormalDisplacement, FlatTriangleGivesTheOrthogonalHeight) {
   EXPECT_FALSE(multires::fit_normal_displacement(Vec3(2, 2, 0.1), a, b, c, n, n, n, 1e-4).ok);
 }
 
+// A root far outside the triangle is dropped before its Newton polish (which only removes
+// rounding): every point built as an offset inside the triangle must still be found.
+TEST(NormalDisplacement, EveryOffsetPointOverTheTriangleIsFound) {
+  std::srand(11);
+  auto uniform = [] { return static_cast<double>(std::rand()) / RAND_MAX; };
+  auto random_vec = [&] { return Vec3(2 * uniform() - 1, 2 * uniform() - 1, 2 * uniform() - 1); };
+  for (int trial = 0; trial < 20000; ++trial) {
+    const Vec3 a = random_vec(), b = random_vec(), c = random_vec();
+    const Vec3 nf = (b - a).cross(c - a).normalized();
+    auto normal = [&] { return (nf + 0.7 * random_vec()).normalized(); };
+    const Vec3 na = normal(), nb = normal(), nc = normal();
+    // Barycentrics inside, a quarter of them on an edge; heights up to the triangle's size.
+    double u = uniform(), v = uniform();
+    if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
+    if (trial % 4 == 0) v = 0.0;
+    const double w = 1.0 - u - v, h = 2 * uniform() - 1;
+    const Vec3 x = u * (a + h * na) + v * (b + h * nb) + w * (c + h * nc);
+    const multires::NormalFit fit = multires::fit_normal_displacement(x, a, b, c, na, nb, nc, 1e-4);
+    // Offset maps that fold at this height have no unique foot; skip them.
+    if (multires::offset_jacobian_det(a, b, c, na, nb, nc, u, v, w, h) <= 0.0) continue;
+    ASSERT_TRUE(fit.ok) << "trial " << trial;
+    EXPECT_LE(std::abs(fit.h), std::abs(h) + 1e-9) << "trial " << trial;  // the smallest height wins
+    const Vec3 rec = fit.u * (a + fit.h * na) + fit.v * (b + fit.h * nb) + fit.w * (c + fit.h * nc);
+    EXPECT_LT((rec - x).norm(), 1e-9) << "trial " << trial;
+  }
+}
+
 // The candidate search skips a triangle when this bound reaches its best |h| so far, so the bound
 // must never exceed the |h| of a fit the triangle accepts (else the encoding would change).
 TEST(NormalDisplacement, HeightLowerBoundNeverExceedsAnAcceptedFit) {

@@ -31,6 +31,9 @@ NormalFit fit_normal_displacement(const Vec3& x, const Vec3& a, const Vec3& b, c
     if (!(std::abs(det2) > 1e-30 * g11 * g22) || !std::isfinite(det2)) continue;
     double u = (g22 * e1.dot(r) - g12 * e2.dot(r)) / det2;
     double v = (g11 * e2.dot(r) - g12 * e1.dot(r)) / det2;
+    // Clearly outside the triangle on a well-conditioned frame: Newton would only remove the
+    // root's rounding, far less than this margin.
+    if (det2 > 1e-6 * g11 * g22 && std::min({u, v, 1.0 - u - v}) < -tolerance - 0.01) continue;
     // Newton on F(u, v, h) (the cubic root is exact up to rounding; this removes it).
     for (int it = 0; it < 3; ++it) {
       e1 = E1 + h * N1;
