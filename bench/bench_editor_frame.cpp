@@ -6,7 +6,8 @@
 //   timed too (whole_mesh_*) and checked to give the same floats every frame
 // and, separately, the draw (Renderer::draw + glFinish; on Mesa llvmpipe this is software
 // rasterization on the CPU). The same calls the editor makes per frame, on an EGL surfaceless
-// context. Prints JSON with medians over the frames.
+// context. Prints JSON with medians over the frames, and the platform's own tail for
+// comparison (reference_compute: a computation as long as the evaluate, timed alongside it).
 //
 // Meshes: armadillo.off (52k triangles) and bunny00.off (75k) with one midpoint subdivision:
 // 208k and 302k triangles. Support: 35k free vertices + a 700-vertex handle, breadth-first
@@ -58,6 +59,27 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+// The platform's own tail: a chain of dependent multiply-adds (no memory, no threads, no
+// system calls) timed like the evaluate. Its p99 over its median is what interrupts, the
+// scheduler and the hypervisor add to any computation of that length on this machine.
+double reference_compute_ms(long iterations) {
+  const auto t = Clock::now();
+  volatile double seed = 1.0;
+  double x = seed;
+  for (long i = 0; i < iterations; ++i) x = x * 0.9999999 + 1e-9;
+  seed = x;
+  return ms_since(t);
+}
+
+// Iterations of reference_compute_ms that take about target_ms (median of 101 short timings;
+// this VM's speed drifts, so the reference's own median is reported next to the evaluate's).
+long calibrate_reference(double target_ms) {
+  const long probe = 20000;
+  std::vector<double> t;
+  for (int i = 0; i < 101; ++i) t.push_back(reference_compute_ms(probe));
+  return std::max(1L, std::lround(static_cast<double>(probe) * target_ms / median(t)));
+}
+
 nlohmann::json run(const std::string& name, int frames, int width, int height, int samples, bool nonlinear) {
   const auto path = bench::mesh_dir() / name;
   Mesh mesh = Mesh::from_soup(bench::subdivide_midpoint(read_mesh(path.string()).soup));
@@ -98,6 +120,18 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
   doc.update_display();
   viewer::update_geometry(scene, doc.display_positions());
   const viewer::GeometryPatch patch(scene, doc.display_touched());
+  // The reference computation lasts as long as the evaluate's median over 21 warm-up frames.
+  std::vector<double> warm_up;
+  for (int f = 0; f < 21; ++f) {
+    Manipulator m = start;
+    m.translation += Vec3(0.0, 1e-4 * diag * (f % 2 + 1), 0.0);
+    doc.preview_manipulator(id, m);
+    warm_up.push_back(doc.update_display().evaluate_ms);
+  }
+  doc.preview_manipulator(id, start);
+  doc.update_display();
+  const long reference_iterations = calibrate_reference(median(warm_up));
+  std::vector<double> reference;
   Clock::time_point frame_start = Clock::now();
   for (int f = 0; f < frames; ++f) {
     Manipulator m = start;
@@ -107,10 +141,14 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
     // The nonlinear model's worker runs between frames: pace them like a 60 Hz display.
     if (nonlinear && f > 0) std::this_thread::sleep_until(frame_start + std::chrono::microseconds(16667));
     frame_start = Clock::now();
+    // First after the draw or second: a thread that blocked in glFinish may wake on a busy core
+    // and wait for a slice; alternating gives the reference the evaluate's exposure to that.
+    if (f % 2 == 0) reference.push_back(reference_compute_ms(reference_iterations));
     doc.preview_manipulator(id, m);
     auto t = Clock::now();
     const editor::FrameTimings ft = doc.update_display();
     const double update_ms = ms_since(t);
+    if (f % 2 == 1) reference.push_back(reference_compute_ms(reference_iterations));
     // Before: every vertex converted, every normal and the bounds recomputed, whole buffers.
     t = Clock::now();
     viewer::update_geometry(full, doc.display_positions());
@@ -198,7 +236,12 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
           {"patch_ranges", patch.ranges().size()},
           {"p99_ms", {{"evaluate", percentile(evaluate, 0.99)}, {"update_display", percentile(update, 0.99)},
                       {"interactive_frame", percentile(frame, 0.99)}}},
-          {"max_ms", {{"interactive_frame", *std::max_element(frame.begin(), frame.end())}}}};
+          {"max_ms", {{"interactive_frame", *std::max_element(frame.begin(), frame.end())}}},
+          {"evaluate_p99_over_median", percentile(evaluate, 0.99) / median(evaluate)},
+          {"reference_compute",
+           {{"median_ms", median(reference)},
+            {"p99_ms", percentile(reference, 0.99)},
+            {"p99_over_median", percentile(reference, 0.99) / median(reference)}}}};
 }
 
 }  // namespace
