@@ -71,15 +71,6 @@ double reference_compute_ms(long iterations) {
   return ms_since(t);
 }
 
-// Iterations of reference_compute_ms that take about target_ms (median of 101 short timings;
-// this VM's speed drifts, so the reference's own median is reported next to the evaluate's).
-long calibrate_reference(double target_ms) {
-  const long probe = 20000;
-  std::vector<double> t;
-  for (int i = 0; i < 101; ++i) t.push_back(reference_compute_ms(probe));
-  return std::max(1L, std::lround(static_cast<double>(probe) * target_ms / median(t)));
-}
-
 nlohmann::json run(const std::string& name, int frames, int width, int height, int samples, bool nonlinear) {
   const auto path = bench::mesh_dir() / name;
   Mesh mesh = Mesh::from_soup(bench::subdivide_midpoint(read_mesh(path.string()).soup));
@@ -120,17 +111,20 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
   doc.update_display();
   viewer::update_geometry(scene, doc.display_positions());
   const viewer::GeometryPatch patch(scene, doc.display_touched());
-  // The reference computation lasts as long as the evaluate's median over 21 warm-up frames.
-  std::vector<double> warm_up;
+  // The reference computation lasts as long as the evaluate: medians of both over 21 warm-up
+  // frames, timed next to each other (this VM's speed drifts between runs).
+  constexpr long kProbe = 20000;
+  std::vector<double> warm_up, probe;
   for (int f = 0; f < 21; ++f) {
     Manipulator m = start;
     m.translation += Vec3(0.0, 1e-4 * diag * (f % 2 + 1), 0.0);
     doc.preview_manipulator(id, m);
     warm_up.push_back(doc.update_display().evaluate_ms);
+    probe.push_back(reference_compute_ms(kProbe));
   }
   doc.preview_manipulator(id, start);
   doc.update_display();
-  const long reference_iterations = calibrate_reference(median(warm_up));
+  const long reference_iterations = std::max(1L, std::lround(kProbe * median(warm_up) / median(probe)));
   std::vector<double> reference;
   Clock::time_point frame_start = Clock::now();
   for (int f = 0; f < frames; ++f) {
