@@ -266,11 +266,10 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
       }
       if (!found) {
         // Local frame at the nearest base vertex.
-        const int anchor = start;
-        const Vec3 pa = Map3(B + 3 * anchor), n = Map3(N + 3 * anchor);
+        const Vec3 pa = Map3(B + 3 * start), n = Map3(N + 3 * start);
         int nbr = -1;
         double best_len = 0.0;
-        for (const Step& out : around(anchor)) {
+        for (const Step& out : around(start)) {
           const int l = out.to;
           Vec3 e = Map3(B + 3 * l) - pa;
           const double len = (e - e.dot(n) * n).norm();
@@ -280,7 +279,7 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
           }
         }
         const Vec3 d = x - pa;
-        code.corner = {anchor, -1, -1};
+        code.corner = {start, -1, -1};
         code.w = {d[0], d[1], d[2]};
         code.h = 0.0;
         if (nbr >= 0 && n.squaredNorm() > 0.5) {
