@@ -1,11 +1,15 @@
 // bcm_analysis.h: the pattern predicted from the connectivity is exactly the assembled A_pp's
 // lower triangle (irregular meshes, right angles, supports on the mesh boundary, k = 1..3,
 // lambda = 0); the solver uses the analysis run ahead and gives the same result as with its
-// own, and it falls back to its own when handed an analysis of another pattern.
+// own, and it falls back to its own when handed an analysis of another pattern. Dropped
+// without get() (a cancel), it returns without waiting for the ordering.
 #include "bcm_fixtures.h"
 
 #include "freeform/bcm/bcm_analysis.h"
 #include "freeform/bcm/bcm_system.h"
+
+#include <chrono>
+#include <future>
 
 namespace freeform::test {
 namespace {
@@ -118,6 +122,43 @@ TEST(BcmAnalysis, StartsOnlyForLargeSymmetricCholeskySystems) {
   s.smoothness.outer = Smoothness::kDefault;
   s.solver = SolverKind::Umfpack;
   EXPECT_FALSE(BcmAnalysis(p.mesh, large, s, kSmall).started());
+}
+
+TEST(BcmAnalysis, PatternStopsWhenAsked) {
+  const LargePlane p;
+  const Regions regions = p.regions(0.001);
+  const std::atomic<bool> go{false}, stop{true};
+  EXPECT_GT(bcm_lower_pattern(p.mesh, regions, 3, &go).nonZeros(), 20 * regions.n_free());
+  EXPECT_EQ(bcm_lower_pattern(p.mesh, regions, 3, &stop).rows(), 0);
+}
+
+// A cancel unwinding through the analysis must not wait for METIS (20 s at 1M free): the
+// thread is held between the pattern and the ordering while the analysis, then the mesh and
+// regions it read, are destroyed; released, it must not touch them (ASan would see it).
+TEST(BcmAnalysis, DroppedWithoutWaitingForTheOrdering) {
+  auto p = std::make_unique<LargePlane>();
+  auto regions = std::make_unique<Regions>(p->regions(0.001));
+  BcmSettings s;
+  s.order = 3;
+  auto entered = std::make_shared<std::promise<void>>();
+  std::future<void> in_hook = entered->get_future();
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  auto analysis = std::make_unique<BcmAnalysis>(p->mesh, *regions, s, kSmall, [entered, released] {
+    entered->set_value();
+    released.wait();
+  });
+  ASSERT_TRUE(analysis->started());
+  ASSERT_EQ(in_hook.wait_for(std::chrono::seconds(60)), std::future_status::ready);
+  std::future<void> dropped = std::async(std::launch::async, [&] {
+    analysis.reset();
+    regions.reset();
+    p.reset();
+  });
+  const bool waited = dropped.wait_for(std::chrono::seconds(30)) != std::future_status::ready;
+  release.set_value();
+  dropped.wait();
+  EXPECT_FALSE(waited) << "the destructor waited for the held thread";
 }
 
 }  // namespace

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <chrono>
 #include <exception>
+#include <system_error>
+#include <thread>
 #include <vector>
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -23,7 +25,8 @@ bool expect_symmetric(const BcmSettings& s) {
 
 }  // namespace
 
-Eigen::SparseMatrix<double> bcm_lower_pattern(const Mesh& mesh, const Regions& regions, int order) {
+Eigen::SparseMatrix<double> bcm_lower_pattern(const Mesh& mesh, const Regions& regions, int order,
+                                              const std::atomic<bool>* stop) {
   const std::vector<Vertex> free = breadth_first_order(mesh, regions.free_vertices());
   const int n = static_cast<int>(free.size());
   VertexData<int> index(static_cast<std::size_t>(mesh.n_vertices()), -1);
@@ -32,6 +35,7 @@ Eigen::SparseMatrix<double> bcm_lower_pattern(const Mesh& mesh, const Regions& r
   std::vector<int> outer(static_cast<std::size_t>(n) + 1, 0), inner, column;
   std::vector<Vertex> frontier, next;
   for (int j = 0; j < n; ++j) {
+    if (stop && j % 4096 == 0 && stop->load(std::memory_order_relaxed)) return {};
     column.clear();
     frontier.assign(1, free[static_cast<std::size_t>(j)]);
     seen[frontier[0]] = j;
@@ -57,28 +61,57 @@ Eigen::SparseMatrix<double> bcm_lower_pattern(const Mesh& mesh, const Regions& r
       n, n, static_cast<Eigen::Index>(inner.size()), outer.data(), inner.data(), zeros.data()));
 }
 
-BcmAnalysis::BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, int min_free) {
+struct BcmAnalysis::Shared {
+  std::atomic<bool> abandoned{false};
+  std::promise<void> read_done;
+  std::promise<std::unique_ptr<CholeskyAnalysis>> result;
+  std::atomic<double> ms{0.0};
+};
+
+BcmAnalysis::BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, int min_free,
+                         std::function<void()> before_ordering) {
   if (regions.n_free() < min_free || !expect_symmetric(settings)) return;
   if (settings.solver != SolverKind::Auto && settings.solver != SolverKind::CholmodSupernodal) return;
-  const int k = settings.order;
+  shared_ = std::make_shared<Shared>();
+  read_done_ = shared_->read_done.get_future();
+  future_ = shared_->result.get_future();
+  try {
+    std::thread([&mesh, &regions, k = settings.order, shared = shared_, hook = std::move(before_ordering)] {
+      const auto t = std::chrono::steady_clock::now();
+      Eigen::SparseMatrix<double> lower = [&] {
+        try {
+          return bcm_lower_pattern(mesh, regions, k, &shared->abandoned);
+        } catch (const std::exception&) {  // e.g. out of memory: the solver analyzes A itself and reports
+          return Eigen::SparseMatrix<double>();
+        }
+      }();
+      shared->read_done.set_value();  // mesh and regions may be gone from here on
+      if (hook) hook();
+      std::unique_ptr<CholeskyAnalysis> out;
+      try {
+        if (lower.rows() > 0 && !shared->abandoned) out = std::make_unique<CholeskyAnalysis>(lower);
+        if (out && !out->ok()) out.reset();
+      } catch (const std::exception&) {
+        out.reset();
+      }
+      Eigen::SparseMatrix<double>().swap(lower);  // before the result: the caller's peak follows
+      shared->ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+      shared->result.set_value(std::move(out));
+    }).detach();
+  } catch (const std::system_error&) {  // no thread to be had: the solver analyzes A itself
+    shared_.reset();
+    return;
+  }
   started_ = true;
-  future_ = std::async(std::launch::async, [&mesh, &regions, k, this]() -> std::unique_ptr<CholeskyAnalysis> {
-    const auto t = std::chrono::steady_clock::now();
-    struct Timer {  // ms_ on every way out
-      std::chrono::steady_clock::time_point t;
-      double& ms;
-      ~Timer() { ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count(); }
-    } timer{t, ms_};
-    try {
-      auto a = std::make_unique<CholeskyAnalysis>(bcm_lower_pattern(mesh, regions, k));
-      return a->ok() ? std::move(a) : nullptr;
-    } catch (const std::exception&) {
-      return nullptr;  // e.g. out of memory: the solver analyzes A itself and reports
-    }
-  });
 }
 
-BcmAnalysis::~BcmAnalysis() = default;
+BcmAnalysis::~BcmAnalysis() {
+  if (!shared_) return;
+  shared_->abandoned = true;
+  read_done_.wait();
+}
+
+double BcmAnalysis::ms() const { return shared_ ? shared_->ms.load() : 0.0; }
 
 CholeskyAnalysis* BcmAnalysis::get() {
   if (future_.valid()) {

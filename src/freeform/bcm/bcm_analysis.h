@@ -11,6 +11,8 @@
 
 #include <Eigen/SparseCore>
 
+#include <atomic>
+#include <functional>
 #include <future>
 #include <memory>
 
@@ -18,22 +20,30 @@ namespace freeform {
 
 // The lower triangle of A_pp's pattern (values 0), rows and columns in assemble_bcm_system's
 // free order: (i, j) for free vertices at most k edges apart (the walks of S_k = L W ... L).
-Eigen::SparseMatrix<double> bcm_lower_pattern(const Mesh& mesh, const Regions& regions, int order);
+// Once *stop is set (checked every few thousand columns) it returns an empty matrix.
+Eigen::SparseMatrix<double> bcm_lower_pattern(const Mesh& mesh, const Regions& regions, int order,
+                                              const std::atomic<bool>* stop = nullptr);
 
 class BcmAnalysis {
  public:
   // Starts only where it can pay off: at least min_free free vertices, a solver setting that
   // allows CHOLMOD and a system expected to be symmetric (k <= 2, or every boundary
   // smoothness 0 or 2 at k = 3: DESIGN.md section 3). mesh and regions must outlive this.
-  BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, int min_free = kMinFree);
-  ~BcmAnalysis();  // waits for the thread (CHOLMOD cannot be interrupted)
+  // before_ordering (tests): called on the thread between the pattern and the ordering.
+  BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, int min_free = kMinFree,
+              std::function<void()> before_ordering = {});
+  // Without get() (a cancel or an error unwinding) it waits only until the thread stops
+  // reading mesh and regions (a few thousand pattern columns). An ordering already running
+  // cannot be interrupted (CHOLMOD, METIS): it finishes on its own and is dropped, so a
+  // cancelled editor precompute does not hold the next one for up to 20 s at 1M free.
+  ~BcmAnalysis();
   BcmAnalysis(const BcmAnalysis&) = delete;
   BcmAnalysis& operator=(const BcmAnalysis&) = delete;
 
   bool started() const { return started_; }
   // Waits for the analysis; null if none was started or it failed (the solver then analyzes A).
   CholeskyAnalysis* get();
-  double ms() const { return ms_; }  // the thread's time (pattern and analysis), after get()
+  double ms() const;  // the thread's time (pattern and analysis), after get()
 
   // Multiresolution on the subdivided bunny, k = 3, precompute with / without: 35k free 1.3-1.4 /
   // 0.9-1.2 s (the thread competes with the operator shape), 140k 5.7-5.9 / 6.7-7.2 s, 300k
@@ -41,10 +51,12 @@ class BcmAnalysis {
   static constexpr int kMinFree = 100000;
 
  private:
+  struct Shared;  // what the thread shares with this object, which it may outlive
+  std::shared_ptr<Shared> shared_;
   bool started_ = false;
+  std::future<void> read_done_;  // the thread no longer reads mesh and regions
   std::future<std::unique_ptr<CholeskyAnalysis>> future_;
   std::unique_ptr<CholeskyAnalysis> result_;
-  double ms_ = 0;
 };
 
 }  // namespace freeform
