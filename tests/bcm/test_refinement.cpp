@@ -1,12 +1,13 @@
 // refine_bcm_solution (bcm/refinement.h): from a perturbed start it recovers the solve, for the
 // symmetric and the unsymmetric systems, and it stops (not converged, not blown up) when its
-// corrections do not shrink.
+// corrections do not shrink; a cancel stops it between steps.
 #include "bcm_fixtures.h"
 
 #include "freeform/bcm/bcm_system.h"
 #include "freeform/bcm/refinement.h"
 #include "freeform/common/error.h"
 
+#include <atomic>
 #include <random>
 
 namespace freeform::test {
@@ -68,6 +69,20 @@ TEST(Refinement, RefusesMismatchedSizes) {
   const SparseSolver solver(Eigen::SparseMatrix<double>(p.sys.a_pp), p.sys.symmetric);
   Eigen::MatrixXd x = p.exact.topRows(p.exact.rows() - 1);
   EXPECT_THROW(refine_bcm_solution(p.sys, solver, p.xc, x), InvalidInput);
+}
+
+TEST(Refinement, CancelStopsItBeforeAStep) {
+  const Problem p = problem(3, 2.0);
+  const SparseSolver solver(Eigen::SparseMatrix<double>(p.sys.a_pp), p.sys.symmetric);
+  const Eigen::MatrixXd start = perturbed(p.exact, 1e-3);
+  Eigen::MatrixXd x = start;
+  std::atomic<bool> cancel{true};
+  Progress progress;
+  progress.cancel = &cancel;
+  EXPECT_THROW(refine_bcm_solution(p.sys, solver, p.xc, x, progress), Cancelled);
+  EXPECT_EQ(x, start) << "a step ran after the cancel";
+  cancel = false;
+  EXPECT_TRUE(refine_bcm_solution(p.sys, solver, p.xc, x, progress).converged);
 }
 
 }  // namespace

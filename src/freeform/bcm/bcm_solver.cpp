@@ -238,7 +238,7 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   stats_.basis_ms = ms_since(t);
   progress.step("refinement", 0.75);
   t = Clock::now();
-  const Refinement refinement = refine_bcm_solution(sys, *solver, xc, x);
+  const Refinement refinement = refine_bcm_solution(sys, *solver, xc, x, progress);
   stats_.refinement_ms = ms_since(t);
   if (!keep_system) solver.reset();  // the factor (2.6 GB at 1M free, k = 3) before the copies below
   stats_.refinement_steps = refinement.steps;

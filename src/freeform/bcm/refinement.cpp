@@ -13,7 +13,8 @@ using Ld = long double;
 using RowSp = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
 // next(r, :) = sum_c lap(r, c) w(c) z(c, :) for rows [0, rows), row-major d columns.
-void level_product(const RowSp& lap, const double* w, const std::vector<Ld>& z, int rows, int d, std::vector<Ld>& next) {
+void level_product(const RowSp& lap, const double* w, const std::vector<Ld>& z, int rows, int d,
+                   std::vector<Ld>& next) {
   next.assign(static_cast<std::size_t>(rows) * static_cast<std::size_t>(d), 0.0L);
   parallel_for(rows, 1024, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
     for (auto r = static_cast<int>(lo); r < hi; ++r) {
@@ -31,7 +32,7 @@ void level_product(const RowSp& lap, const double* w, const std::vector<Ld>& z, 
 }  // namespace
 
 Refinement refine_bcm_solution(const BcmSystem& sys, const SparseSolver& solver, const Eigen::MatrixXd& xc,
-                               Eigen::MatrixXd& x, double rel_tol, int max_steps) {
+                               Eigen::MatrixXd& x, const Progress& progress, double rel_tol, int max_steps) {
   const int k = static_cast<int>(sys.level_weights.size()) + 1;
   const int n_free = static_cast<int>(x.rows());
   const int n_c = static_cast<int>(xc.rows());
@@ -58,6 +59,7 @@ Refinement refine_bcm_solution(const BcmSystem& sys, const SparseSolver& solver,
   Eigen::MatrixXd r(n_free, d);
   std::vector<Ld> level;
   for (int step = 0; step < max_steps; ++step) {
+    progress.check();
     // S_k [x; xc] level by level: rows shrink ring by ring down to the free set.
     const std::vector<Ld>* cur = &z;
     for (int m = 1; m <= k; ++m) {

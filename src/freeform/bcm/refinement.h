@@ -10,6 +10,7 @@
 #pragma once
 
 #include "freeform/bcm/bcm_system.h"
+#include "freeform/common/progress.h"
 #include "freeform/numerics/sparse_solver.h"
 
 #include <Eigen/Core>
@@ -27,7 +28,9 @@ struct Refinement {
 // be another factorization of the same system), improved in place. Stops when every column's
 // correction is below rel_tol times the column's largest entry, when a correction no longer
 // halves, or after max_steps. sys needs lap, level_weights and ring_rows (always assembled).
+// progress is checked before each step (1.4 s each at 1M free, k = 3).
 Refinement refine_bcm_solution(const BcmSystem& sys, const SparseSolver& solver, const Eigen::MatrixXd& xc,
-                               Eigen::MatrixXd& x, double rel_tol = 1e-12, int max_steps = 8);
+                               Eigen::MatrixXd& x, const Progress& progress = {}, double rel_tol = 1e-12,
+                               int max_steps = 8);
 
 }  // namespace freeform

@@ -179,6 +179,7 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
     return std::span<const Step>(steps.data() + step_offset[static_cast<std::size_t>(l)],
                                  steps.data() + step_offset[static_cast<std::size_t>(l) + 1]);
   };
+  const std::atomic<bool>* cancel = progress.cancel;
 #pragma omp parallel
   {
     std::vector<int> frontier, next, cand;
@@ -191,6 +192,7 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
     }
 #pragma omp for schedule(dynamic, 256)
     for (int i = 0; i < n_free_; ++i) {
+      if (cancel && cancel->load(std::memory_order_relaxed)) continue;  // 5 s at 1M free: stop early
       const Vec3 x = mesh.position(free[static_cast<std::size_t>(i)]);
       Code& code = codes_[static_cast<std::size_t>(i)];
       code.corner = {-1, -1, -1};
@@ -293,6 +295,7 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
     }
   }
 
+  progress.check();
   for (std::size_t i = 0; i < codes_.size(); ++i) {
     const Code& c = codes_[i];
     if (c.corner[2] >= 0) {
