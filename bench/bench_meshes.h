@@ -2,6 +2,7 @@
 // subdivide_midpoint, mesh/generators.h).
 #pragma once
 
+#include "build_paths.h"
 #include "freeform/mesh/generators.h"
 
 #include <cstdlib>
@@ -11,7 +12,7 @@ namespace freeform::bench {
 
 inline std::filesystem::path mesh_dir() {
   const char* env = std::getenv("FREEFORM_MESH_DIR");
-  return env && *env ? std::filesystem::path(env) : std::filesystem::path(FREEFORM_DEFAULT_MESH_DIR);
+  return env && *env ? std::filesystem::path(env) : std::filesystem::path(build_paths::default_mesh_dir());
 }
 
 using freeform::subdivide_midpoint;  // mesh/generators.h

@@ -3,6 +3,7 @@
 // convergence (precompute and solve separately), folded edges, smallest singular value of the
 // face deformation gradients, enclosed volume. Prints JSON (docs/benchmarks.md).
 //   bench_nonlinear [repetitions=3]
+#include "build_paths.h"
 #include "nonlinear/survey_shapes.h"
 
 #include "freeform/edit/edit_solver.h"
@@ -112,7 +113,8 @@ int main(int argc, char** argv) {
   const int reps = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
   const char* env = std::getenv("FREEFORM_MESH_DIR");
   std::vector<Shape> shapes{bar_twist(), cylinder_bend()};
-  if (auto cactus = cactus_bend(env && *env ? env : FREEFORM_DEFAULT_MESH_DIR)) shapes.push_back(std::move(*cactus));
+  if (auto cactus = cactus_bend(env && *env ? env : freeform::build_paths::default_mesh_dir()))
+    shapes.push_back(std::move(*cactus));
   nlohmann::json out = nlohmann::json::array();
   for (const Shape& s : shapes) {
     nlohmann::json runs = nlohmann::json::array();

@@ -6,6 +6,8 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
+# ccache (installed by bootstrap.sh): paths relative to the clone, so another clone reuses the objects.
+export CCACHE_BASEDIR="$root" CCACHE_NOHASHDIR=1
 scripts/bootstrap.sh
 scripts/fetch-data.sh
 cmake --preset release >/dev/null

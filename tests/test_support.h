@@ -1,6 +1,8 @@
 // Shared helpers for the test executables: where data lives and scratch folders.
 #pragma once
 
+#include "build_paths.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -10,12 +12,12 @@
 namespace freeform::test {
 
 // Committed small files (data/ in the repository).
-inline std::filesystem::path data_dir() { return FREEFORM_TEST_DATA_DIR; }
+inline std::filesystem::path data_dir() { return build_paths::data_dir(); }
 
 // Unpacked libcgal-demo meshes (scripts/fetch-data.sh). Empty path if not present.
 inline std::filesystem::path cgal_mesh_dir() {
   const char* env = std::getenv("FREEFORM_MESH_DIR");
-  std::filesystem::path dir = env && *env ? env : FREEFORM_DEFAULT_MESH_DIR;
+  std::filesystem::path dir = env && *env ? env : build_paths::default_mesh_dir();
   return std::filesystem::is_directory(dir) ? dir : std::filesystem::path();
 }
 

@@ -277,9 +277,9 @@ TEST(CliDeform, NeverOverwritesTheEditSelOrDefFiles) {
   EXPECT_EQ(slurp(s.mesh), mesh_before);
   EXPECT_FALSE(std::filesystem::exists(s.dir / "out.off"));
   // .sel / .def (the data folder's example pair), also through a symbolic link.
-  const std::string sel = std::string(FREEFORM_TEST_DATA_DIR) + "/edits/plane.sel";
-  const std::string def = std::string(FREEFORM_TEST_DATA_DIR) + "/edits/plane.def";
-  const std::string plane = std::string(FREEFORM_TEST_DATA_DIR) + "/edits/plane-10x10.off";
+  const std::string sel = freeform::test::data_dir().string() + "/edits/plane.sel";
+  const std::string def = freeform::test::data_dir().string() + "/edits/plane.def";
+  const std::string plane = freeform::test::data_dir().string() + "/edits/plane-10x10.off";
   std::filesystem::create_symlink(sel, s.dir / "sel-link");
   r = freeform_cli("deform " + q(plane) + " --sel " + q(sel) + " --def " + q(def) + " -o " + q(s.dir / "o.off") +
                    " --report " + q(s.dir / "sel-link"));
