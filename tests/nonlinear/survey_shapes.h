@@ -6,6 +6,7 @@
 
 #include "freeform/edit/edit.h"
 #include "freeform/io/mesh_io.h"
+#include "freeform/mesh/generators.h"
 #include "freeform/mesh/mesh.h"
 #include "freeform/mesh/types.h"
 
@@ -66,10 +67,33 @@ inline TriangleSoup make_box(double sx, double sy, double sz, int per_unit) {
   return soup;
 }
 
+// Closed surface of revolution about the z axis: `circles` (z, radius) from bottom to top, each
+// with `segments` vertices, closed by a pole vertex below the first and above the last.
+inline TriangleSoup make_lathe(const std::vector<std::pair<double, double>>& circles, double bottom, double top,
+                               int segments) {
+  TriangleSoup soup;
+  soup.positions.push_back(Vec3(0, 0, bottom));
+  for (const auto& [z, r] : circles)
+    for (int s = 0; s < segments; ++s) {
+      const double a = 2 * std::numbers::pi * s / segments;
+      soup.positions.push_back(Vec3(r * std::cos(a), r * std::sin(a), z));
+    }
+  soup.positions.push_back(Vec3(0, 0, top));
+  const int n_circles = static_cast<int>(circles.size()), last = static_cast<int>(soup.positions.size()) - 1;
+  auto id = [&](int c, int s) { return 1 + c * segments + (s % segments); };
+  for (int s = 0; s < segments; ++s) soup.faces.push_back({0, id(0, s + 1), id(0, s)});
+  for (int c = 0; c + 1 < n_circles; ++c)
+    for (int s = 0; s < segments; ++s) {
+      soup.faces.push_back({id(c, s), id(c, s + 1), id(c + 1, s + 1)});
+      soup.faces.push_back({id(c, s), id(c + 1, s + 1), id(c + 1, s)});
+    }
+  for (int s = 0; s < segments; ++s) soup.faces.push_back({last, id(n_circles - 1, s), id(n_circles - 1, s + 1)});
+  return soup;
+}
+
 // Closed capsule around the z axis: a tube of the given radius for z in [0, length] with
 // hemispherical caps, `segments` around, `rings` along the tube, segments / 4 per cap.
 inline TriangleSoup make_capsule(double radius, double length, int segments, int rings) {
-  TriangleSoup soup;
   const int cap = segments / 4;
   std::vector<std::pair<double, double>> circles;  // (z, r) from bottom to top
   for (int k = cap - 1; k >= 1; --k) {
@@ -81,23 +105,17 @@ inline TriangleSoup make_capsule(double radius, double length, int segments, int
     const double t = std::numbers::pi / 2 * k / cap;
     circles.emplace_back(length + radius * std::sin(t), radius * std::cos(t));
   }
-  soup.positions.push_back(Vec3(0, 0, -radius));
-  for (const auto& [z, r] : circles)
-    for (int s = 0; s < segments; ++s) {
-      const double a = 2 * std::numbers::pi * s / segments;
-      soup.positions.push_back(Vec3(r * std::cos(a), r * std::sin(a), z));
-    }
-  soup.positions.push_back(Vec3(0, 0, length + radius));
-  const int n_circles = static_cast<int>(circles.size()), top = static_cast<int>(soup.positions.size()) - 1;
-  auto id = [&](int c, int s) { return 1 + c * segments + (s % segments); };
-  for (int s = 0; s < segments; ++s) soup.faces.push_back({0, id(0, s + 1), id(0, s)});
-  for (int c = 0; c + 1 < n_circles; ++c)
-    for (int s = 0; s < segments; ++s) {
-      soup.faces.push_back({id(c, s), id(c, s + 1), id(c + 1, s + 1)});
-      soup.faces.push_back({id(c, s), id(c + 1, s + 1), id(c + 1, s)});
-    }
-  for (int s = 0; s < segments; ++s) soup.faces.push_back({top, id(n_circles - 1, s), id(n_circles - 1, s + 1)});
-  return soup;
+  return make_lathe(circles, -radius, length + radius, segments);
+}
+
+// Closed cylinder with flat caps, z in [0, length]: `rings` along the tube, `cap_rings`
+// concentric circles per cap (the pole included).
+inline TriangleSoup make_flat_cylinder(double radius, double length, int segments, int rings, int cap_rings) {
+  std::vector<std::pair<double, double>> circles;
+  for (int k = 1; k < cap_rings; ++k) circles.emplace_back(0.0, radius * k / cap_rings);
+  for (int k = 0; k <= rings; ++k) circles.emplace_back(length * k / rings, radius);
+  for (int k = cap_rings - 1; k >= 1; --k) circles.emplace_back(length, radius * k / cap_rings);
+  return make_lathe(circles, 0.0, length, segments);
 }
 
 // Enclosed volume (divergence theorem; positive for outward faces).
@@ -174,6 +192,17 @@ inline Shape cylinder_bend() {
                [](const Vec3& p) { return p.z() > 7.0; }, t);
 }
 
+// The deformation survey's cylinder test with flat caps (radius 1, length 12, 4,658 vertices):
+// the bottom 0.5 fixed, the top 0.5 the handle, turned 120 degrees about an axis across the tube
+// through its middle. Multiresolution is left on: the membrane fill of a long tube pinches
+// toward its axis, so the decomposition's "detail" is the whole radius.
+inline Shape flat_cylinder_bend() {
+  Shape s = setup("flat-cylinder", make_flat_cylinder(1.0, 12.0, 48, 90, 4), [](const Vec3& p) { return p.z() < 0.5; },
+                  [](const Vec3& p) { return p.z() > 11.5; }, rotation_about(Vec3(0, 0, 6), 120, Vec3::UnitY()));
+  s.edit.multiresolution = true;
+  return s;
+}
+
 // libcgal-demo's cactus (y up): the right arm, from where it leaves the trunk, bent 70 degrees
 // outward about its elbow; the arm's tip is the handle.
 inline std::optional<Shape> cactus_bend(const std::filesystem::path& mesh_dir) {
@@ -182,6 +211,21 @@ inline std::optional<Shape> cactus_bend(const std::filesystem::path& mesh_dir) {
   return setup("cactus", read_mesh(file.string()).soup, [](const Vec3& p) { return p.x() < 0.1; },
                [](const Vec3& p) { return p.x() > 0.2 && p.y() > 0.38; },
                rotation_about(Vec3(0.3, 0.2, 0.0), -70, Vec3::UnitZ()));
+}
+
+// libcgal-demo's cactus, bent as a whole: the bottom fixed, the top of the trunk the handle,
+// the trunk and both arms in the support, the handle turned 70 degrees sideways about the
+// trunk's foot. `subdivisions` midpoint subdivisions (0: the file's 620 vertices).
+inline std::optional<Shape> cactus_whole_bend(const std::filesystem::path& mesh_dir, int subdivisions = 1) {
+  const std::filesystem::path file = mesh_dir / "cactus.off";
+  if (!std::filesystem::exists(file)) return std::nullopt;
+  TriangleSoup soup = read_mesh(file.string()).soup;
+  for (int i = 0; i < subdivisions; ++i) soup = subdivide_midpoint(soup);
+  Shape s = setup("cactus-whole", soup, [](const Vec3& p) { return p.y() < -0.63; },
+                  [](const Vec3& p) { return p.y() > 0.42 && p.x() > -0.15 && p.x() < 0.1; },
+                  rotation_about(Vec3(-0.025, -0.63, 0.0), -70, Vec3::UnitZ()));
+  s.edit.multiresolution = true;
+  return s;
 }
 
 }  // namespace freeform::test

@@ -33,11 +33,11 @@ struct Result {
   NonlinearState state;
 };
 
-Result run(Shape s, int order, Deformation model, bool preserve_volume = true) {
+Result run(Shape s, int order, Deformation model, bool preserve_volume = true, int max_iterations = 300) {
   s.edit.settings.order = order;
   s.edit.deformation = model;
   s.edit.nonlinear.preserve_volume = preserve_volume;
-  s.edit.nonlinear.max_iterations = 300;
+  s.edit.nonlinear.max_iterations = max_iterations;
   const EditSolver solver(s.mesh, s.edit);
   VertexData<Vec3> p = s.mesh.positions();
   solver.evaluate(solver.transforms(s.edit), p);
@@ -94,6 +94,28 @@ TEST(SurveyNonlinear, CylinderBend120) {
   for (int k : {2, 3}) expect_survey_bounds(run(cylinder_bend(), k, Deformation::Nonlinear));
 }
 
+// The survey's cylinder with flat caps and multiresolution on (the default): the membrane fill
+// of a long tube pinches toward its axis, so a decomposition would make the whole radius
+// "detail" (measured before the fix: k = 2 tore, 2,057 folded edges, min sigma 0; k = 3 a
+// singular base system). Multiresolution must never be worse than without it.
+TEST(SurveyNonlinear, FlatCylinderBendWithMultiresolution) {
+  for (int k : {2, 3}) {
+    const Result with = run(flat_cylinder_bend(), k, Deformation::Nonlinear);
+    Shape off = flat_cylinder_bend();
+    off.edit.multiresolution = false;
+    const Result without = run(off, k, Deformation::Nonlinear);
+    // The bounds: no folded edge, no collapsed face (sigma < 0.5), the volume kept.
+    EXPECT_TRUE(with.state.converged);
+    EXPECT_EQ(with.folds, 0);
+    EXPECT_GE(with.min_sv, 0.5);  // measured 0.60 / 0.56 at k = 2 / 3, the same as without
+    EXPECT_NEAR(with.volume_ratio, 1.0, 1e-6);
+    EXPECT_LE(with.folds, without.folds);
+    EXPECT_GE(with.min_sv, without.min_sv - 0.02);
+    // The linear model on the same decomposition-hostile support: a result, no solver error.
+    EXPECT_NO_THROW(run(flat_cylinder_bend(), k, Deformation::Linear));
+  }
+}
+
 TEST(SurveyNonlinear, CactusArm70) {
   const std::optional<Shape> cactus = cgal_mesh_dir().empty() ? std::nullopt : cactus_bend(cgal_mesh_dir());
   if (!cactus) {
@@ -103,6 +125,27 @@ TEST(SurveyNonlinear, CactusArm70) {
   run(*cactus, 2, Deformation::Linear);
   for (int k : {2, 3}) expect_survey_bounds(run(*cactus, k, Deformation::Nonlinear));
 }
+
+// The whole cactus bent sideways about its foot, arms included (gallery_cases.h's
+// "cactus-whole"): k = 2 is clean. At k = 3 the model's own fixed point is bad (measured: 5
+// folded edges, min sigma 0.21, one arm through the trunk; the plain iteration reaches the same
+// point): its global step minimizes only the Dirichlet energy of the Laplacian mismatch
+// M^-1 (L x - b(R)), so an arm that bends with a uniform mismatch costs nothing
+// (docs/nonlinear.md, "Known gaps"). Enabled once that is fixed.
+void expect_cactus_whole_bend(int k) {
+  const std::optional<Shape> cactus = cgal_mesh_dir().empty() ? std::nullopt : cactus_whole_bend(cgal_mesh_dir());
+  if (!cactus) {
+    if (data_required()) FAIL() << "cactus.off missing: run scripts/fetch-data.sh";
+    GTEST_SKIP() << "libcgal-demo meshes not found";
+  }
+  const Result r = run(*cactus, k, Deformation::Nonlinear, true, NonlinearOptions{}.max_iterations);
+  EXPECT_TRUE(r.state.converged);
+  EXPECT_EQ(r.folds, 0);
+  EXPECT_GE(r.min_sv, 0.5);  // k = 2: 0.67
+}
+
+TEST(SurveyNonlinear, CactusWholeBend70) { expect_cactus_whole_bend(2); }
+TEST(SurveyNonlinear, DISABLED_CactusWholeBend70AtOrder3) { expect_cactus_whole_bend(3); }
 
 // Detail that overhangs its smooth base (here the bunny's ear, whose two sides the base flattens
 // into one sheet) does not ride on the base's normals through a large rotation: decomposed, the

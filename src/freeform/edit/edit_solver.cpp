@@ -79,16 +79,32 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
   // ear twisted 90 degrees: 446 folded edges, 0 without the decomposition). The nonlinear
   // model carries such detail itself, as it does without multiresolution: it rotates the
   // detailed mesh's Laplacian coordinates (docs/nonlinear.md).
-  const bool detail_by_model = nonlinear && shape && shape->overhanging > 0;
+  bool detail_by_model = nonlinear && shape && shape->overhanging > 0;
   if (edit.multiresolution && !detail_by_model) {
     MultiresOptions options;
     if (nonlinear) options.nonlinear = edit.nonlinear;
-    multires_ = std::make_unique<MultiresSolver>(mesh, regions_, edit.settings, options, progress, *shape, &analysis);
-  } else {
+    try {
+      multires_ = std::make_unique<MultiresSolver>(mesh, regions_, edit.settings, options, progress, *shape, &analysis);
+    } catch (const SolverError& e) {
+      // The base system on the foot-point shape can still be numerically singular where the
+      // projection nearly degenerates (operator_shape.h). The linear model then bends the base
+      // with the detailed mesh's operator; the nonlinear one carries the detail itself.
+      if (shape->positions.size() == 0) throw;
+      shape->fallback = std::string("the base system on the smooth shape failed (") + e.what() + ")";
+      shape->positions = VertexData<Vec3>(0);
+      if (nonlinear)
+        detail_by_model = true;
+      else
+        multires_ = std::make_unique<MultiresSolver>(mesh, regions_, edit.settings, options, progress, *shape, &analysis);
+    }
+  }
+  if (!multires_) {
     // The plain linear frame scatters rows into the mesh: rows in vertex order (RowOrder).
     bcm_ = std::make_unique<BcmSolver>(mesh, regions_, edit.settings, progress, nullptr, nonlinear,
                                        nonlinear ? RowOrder::BreadthFirst : RowOrder::ByIndex, &analysis);
-    if (nonlinear) nonlinear_ = std::make_unique<NonlinearSolver>(mesh, regions_, *bcm_, mesh.positions(), edit.nonlinear);
+    if (nonlinear)
+      nonlinear_ = std::make_unique<NonlinearSolver>(mesh, regions_, *bcm_, mesh.positions(), edit.nonlinear,
+                                                     detail_by_model);
   }
   stats_.bcm = bcm().stats();
   if (multires_) stats_.multires = multires_->stats();
@@ -96,8 +112,10 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
     MultiresStats& ms = stats_.multires.emplace();
     ms.free = regions_.n_free();
     ms.detail_by_model = true;
-    ms.operator_fallback = "the detail overhangs its base at " + std::to_string(shape->overhanging) +
-                           " triangles; the nonlinear model carries it on the detailed mesh (no decomposition)";
+    ms.operator_fallback = (shape->overhanging > 0 ? "the detail overhangs its base at " +
+                                                         std::to_string(shape->overhanging) + " triangles"
+                                                   : shape->fallback) +
+                           "; the nonlinear model carries it on the detailed mesh (no decomposition)";
     ms.operator_shape_ms = ms.decomposition_ms = shape->ms;
   }
 }

@@ -3,7 +3,9 @@
 #include "freeform/bcm/bcm_solver.h"
 #include "freeform/common/error.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,9 +13,31 @@
 namespace freeform {
 namespace {
 
-// A foot-point triangle must keep its orientation against the membrane and keep this fraction
-// of its area at least; steeper detail (walls, overhangs) makes the projection degenerate.
-constexpr double kMinAreaRatio = 1e-3;
+// A foot-point triangle must keep its orientation against the membrane and may be squeezed to
+// no less than this fraction of its size in any direction. Steeper detail (walls, overhangs)
+// makes the projection degenerate, and so does detail as tall as its base is wide: the membrane
+// of a long tube pinches toward the axis (a 1 x 12 cylinder: 0.0074 mid-tube), its cotangents
+// blow up, the k = 3 base system is numerically singular and the "detail" is the whole radius.
+// Detail that stands on its base is squeezed far less (the survey's bumpy plane: 0.52).
+constexpr double kMinStretch = 0.1;
+
+// Smallest singular value of the affine map from triangle (a, b, c) to (p, q, r): how far the
+// projection squeezes it in its most compressed direction.
+double min_stretch(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, const Vec3& q, const Vec3& r) {
+  const Vec3 e1 = b - a, e2 = c - a;
+  const double l1 = e1.norm();
+  if (!(l1 > 0.0)) return 0.0;
+  const Vec3 u = e1 / l1;
+  const Vec3 w = e2 - e2.dot(u) * u;
+  const double lw = w.norm();
+  if (!(lw > 0.0)) return 0.0;
+  // Rest frame coordinates (l1, 0) and (e2.u, lw); J = [q-p, r-p] * inverse of that 2x2.
+  const Vec3 f1 = q - p, f2 = r - p;
+  const Vec3 j1 = f1 / l1, j2 = (f2 - (e2.dot(u) / l1) * f1) / lw;
+  const double g11 = j1.squaredNorm(), g22 = j2.squaredNorm(), g12 = j1.dot(j2);
+  const double tr = 0.5 * (g11 + g22), det = g11 * g22 - g12 * g12;
+  return std::sqrt(std::max(0.0, tr - std::sqrt(std::max(0.0, tr * tr - det))));
+}
 
 }  // namespace
 
@@ -80,12 +104,15 @@ OperatorShape base_operator_shape(const Mesh& mesh, const Regions& regions, cons
     const auto c = corners(f);
     const Vec3 foot = face_normal(out.positions, f);
     const Vec3 ref = normal[c[0]] + normal[c[1]] + normal[c[2]];
-    if (!(foot.dot(ref) > 0.0) || !(foot.norm() > kMinAreaRatio * face_normal(mesh.positions(), f).norm())) ++bad;
+    if (!(foot.dot(ref) > 0.0) ||
+        !(min_stretch(mesh.position(c[0]), mesh.position(c[1]), mesh.position(c[2]), out.positions[c[0]],
+                      out.positions[c[1]], out.positions[c[2]]) >= kMinStretch))
+      ++bad;
   }
   out.overhanging = bad;
   if (bad > 0) {
     out.fallback = "the detail overhangs its base at " + std::to_string(bad) +
-                   " triangles; the base bends with the detailed mesh's operator";
+                   " triangles (foot points folded or squeezed below a tenth); the base bends with the detailed mesh's operator";
     out.positions = VertexData<Vec3>(0);
   }
   out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

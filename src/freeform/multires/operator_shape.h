@@ -19,12 +19,13 @@ namespace freeform {
 struct OperatorShape {
   VertexData<Vec3> positions;  // #V: foot points on the free vertices, the mesh elsewhere; empty if not used
   std::string fallback;        // why the detailed mesh's own shape is used instead (empty if used)
-  int overhanging = 0;         // triangles whose foot points fold or flatten (the detail overhangs its base)
+  int overhanging = 0;         // triangles whose foot points fold or are squeezed (the detail overhangs its base)
   double ms = 0;               // wall time (the membrane fill's factorization dominates)
 };
 
-// Empty positions with a reason when the foot points fold or flatten a triangle (detail that
-// overhangs its base, as on the armadillo's ear or fandisk's walls) or with
+// Empty positions with a reason when the foot points fold a triangle or squeeze it below a
+// tenth in some direction (detail that overhangs its base, as on the armadillo's ear or
+// fandisk's walls, or as tall as its base is wide, as a long tube over its pinched membrane) or with
 // settings.anisotropic (that operator has its own domain).
 OperatorShape base_operator_shape(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                                   const Progress& progress = {});
