@@ -1,0 +1,266 @@
+// The gallery: the nonlinear model on seeded edits of real meshes and generated shapes
+// (gallery_cases.h), against CGAL's Surface_mesh_deformation (ARAP, spokes and rims, and
+// SR-ARAP) iterated toward convergence on the same support, handles and transforms, in the same
+// run. Per case and method: folded edges, collapsed faces (smallest singular value of the face's
+// deformation gradient < 0.5), min sigma, the largest dihedral increase, the volume ratio
+// (closed meshes), iterations, converged, time. JSON on stdout, a summary table on stderr.
+//   bench_gallery [--quick] [--no-peer] [--out DIR] [--peer-iterations N] [--seed S]
+// --out writes each case's rest and deformed meshes (OFF) for scripts/gallery.sh's contact sheet.
+#include "build_paths.h"
+#include "bench_meshes.h"
+#include "gallery_cases.h"
+
+#include "freeform/edit/edit_solver.h"
+#include "freeform/io/mesh_io.h"
+#include "freeform/mesh/folds.h"
+#include "freeform/mesh/generators.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#ifdef FREEFORM_HAVE_CGAL
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_deformation.h>
+#endif
+
+namespace {
+
+using namespace freeform;
+using freeform::test::Shape;
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+constexpr double kCollapsedSigma = 0.5;
+
+struct Config {
+  std::string name;
+  int order = 2;
+  bool multiresolution = true;
+  bool c0 = false;  // boundary smoothness 0 on both sides (default: k - 1)
+};
+
+// Largest growth of an edge's dihedral angle (degrees) and the collapse counts.
+nlohmann::json quality(const Shape& s, const VertexData<Vec3>& p, bool closed) {
+  const Mesh& m = s.mesh;
+  const VertexData<Vec3>& rest = m.positions();
+  int collapsed = 0;
+  double min_sv = std::numeric_limits<double>::infinity();
+  for (Face f : m.faces()) {
+    const auto c = m.vertices(f);
+    const Vec3 e1 = rest[c[1]] - rest[c[0]], e2 = rest[c[2]] - rest[c[0]];
+    const Vec3 u = e1.normalized(), w = (e2 - e2.dot(u) * u).normalized();
+    Eigen::Matrix2d r;
+    r << e1.dot(u), e2.dot(u), e1.dot(w), e2.dot(w);
+    Eigen::Matrix<double, 3, 2> d;
+    d << p[c[1]] - p[c[0]], p[c[2]] - p[c[0]];
+    const double sv = Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(d * r.inverse()).singularValues()[1];
+    if (!(sv >= kCollapsedSigma)) ++collapsed;
+    min_sv = std::min(min_sv, std::isfinite(sv) ? sv : 0.0);
+  }
+  auto dihedral = [&](const VertexData<Vec3>& x, Halfedge h) {
+    const Vertex a = m.from_vertex(h), b = m.to_vertex(h);
+    const Vertex c = m.to_vertex(m.next(h)), d = m.to_vertex(m.next(m.opposite(h)));
+    const Vec3 n1 = (x[b] - x[a]).cross(x[c] - x[a]), n2 = (x[a] - x[b]).cross(x[d] - x[b]);
+    return std::atan2(n1.cross(n2).norm(), n1.dot(n2));
+  };
+  double worst = 0;
+  for (Halfedge h : m.halfedges())
+    if (h.idx() < m.opposite(h).idx() && !m.is_boundary(h) && !m.is_boundary(m.opposite(h)))
+      worst = std::max(worst, dihedral(p, h) - dihedral(rest, h));
+  nlohmann::json j = {{"folded_edges", count_folded_edges(m, rest, p)},
+                      {"collapsed_faces", collapsed},
+                      {"min_sigma", min_sv},
+                      {"max_dihedral_increase_deg", worst * 180.0 / std::numbers::pi}};
+  if (closed) j["volume_ratio"] = test::volume(m, p) / test::volume(m, rest);
+  return j;
+}
+
+nlohmann::json run_freeform(const Shape& shape, const Config& c, bool closed, VertexData<Vec3>& p) {
+  Shape s = shape;
+  s.edit.settings.order = c.order;
+  s.edit.multiresolution = c.multiresolution;
+  if (c.c0) s.edit.settings.smoothness.outer = s.edit.settings.smoothness.inner = 0.0;
+  s.edit.deformation = Deformation::Nonlinear;
+  nlohmann::json j = {{"method", "freeform " + c.name}};
+  try {
+    auto t = Clock::now();
+    const EditSolver solver(s.mesh, s.edit);
+    j["precompute_ms"] = ms_since(t);
+    p = s.mesh.positions();
+    t = Clock::now();
+    solver.evaluate(solver.transforms(s.edit), p);
+    j["solve_ms"] = ms_since(t);
+    j["free"] = solver.regions().n_free();
+    if (const NonlinearState* st = solver.nonlinear_state()) {
+      j["iterations"] = st->iterations;
+      j["converged"] = st->converged;
+      j["step"] = st->step;
+    }
+    if (solver.stats().multires) j["detail_by_model"] = solver.stats().multires->detail_by_model;
+  } catch (const std::exception& e) {
+    j["error"] = e.what();
+    return j;
+  }
+  j.update(quality(s, p, closed));
+  return j;
+}
+
+#ifdef FREEFORM_HAVE_CGAL
+template <CGAL::Deformation_algorithm_tag Tag>
+nlohmann::json run_cgal(const Shape& s, const char* name, int iterations, bool closed, VertexData<Vec3>& p) {
+  using Point = CGAL::Simple_cartesian<double>::Point_3;
+  using SurfaceMesh = CGAL::Surface_mesh<Point>;
+  using SmVertex = SurfaceMesh::Vertex_index;
+  auto sm_vertex = [](Vertex v) { return SmVertex(static_cast<SurfaceMesh::size_type>(v.idx())); };
+  const TriangleSoup soup = s.mesh.to_soup();
+  SurfaceMesh sm;
+  for (const Vec3& x : soup.positions) sm.add_vertex(Point(x.x(), x.y(), x.z()));
+  for (const Tri& f : soup.faces) sm.add_face(sm_vertex(Vertex(f[0])), sm_vertex(Vertex(f[1])), sm_vertex(Vertex(f[2])));
+  auto clock = Clock::now();
+  CGAL::Surface_mesh_deformation<SurfaceMesh, CGAL::Default, CGAL::Default, Tag> d(sm);
+  for (Vertex v : s.edit.support) d.insert_roi_vertex(sm_vertex(v));
+  for (const EditHandle& h : s.edit.handles)
+    for (Vertex v : h.vertices) d.insert_control_vertex(sm_vertex(v));
+  if (!d.preprocess()) return {{"method", name}, {"error", "preprocess failed"}};
+  const double pre = ms_since(clock);
+  for (const EditHandle& h : s.edit.handles)
+    for (Vertex v : h.vertices) {
+      const Vec3 y = *h.matrix * s.mesh.position(v);
+      d.set_target_position(sm_vertex(v), Point(y.x(), y.y(), y.z()));
+    }
+  clock = Clock::now();
+  // From the same start as Freeform (the rest, handles moved); CGAL stops when the relative
+  // energy change falls below 1e-6 or after `iterations`.
+  d.deform(static_cast<unsigned>(iterations), 1e-6);
+  const double solve = ms_since(clock);
+  p = s.mesh.positions();
+  for (Vertex v : s.mesh.vertices()) {
+    const Point& q = sm.point(sm_vertex(v));
+    p[v] = Vec3(q.x(), q.y(), q.z());
+  }
+  nlohmann::json j = {{"method", name}, {"precompute_ms", pre}, {"solve_ms", solve}, {"max_iterations", iterations}};
+  j.update(quality(s, p, closed));
+  return j;
+}
+#endif
+
+bool is_closed(const Mesh& m) {
+  for (Halfedge h : m.halfedges())
+    if (m.is_boundary(h)) return false;
+  return true;
+}
+
+void write_result(const std::filesystem::path& dir, const std::string& stem, const Mesh& mesh,
+                  const VertexData<Vec3>& p) {
+  TriangleSoup soup = mesh.to_soup();
+  soup.positions = p.raw();
+  write_mesh((dir / (stem + ".off")).string(), soup);
+}
+
+struct Options {
+  bool quick = false, peer = true;
+  std::string out;
+  int peer_iterations = 2000;
+  unsigned seed = 37;
+};
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--quick") o.quick = true;
+    else if (a == "--no-peer") o.peer = false;
+    else if (a == "--out") o.out = value();
+    else if (a == "--peer-iterations") o.peer_iterations = std::stoi(value());
+    else if (a == "--seed") o.seed = static_cast<unsigned>(std::stoul(value()));
+    else throw std::runtime_error("unknown option " + a);
+  }
+  return o;
+}
+
+std::vector<Shape> gallery(const Options& o) {
+  std::vector<Shape> cases;
+  Shape cyl = test::flat_cylinder_bend();
+  Shape bar = test::bar_twist(), capsule = test::cylinder_bend();
+  cases.push_back(std::move(cyl));
+  cases.push_back(std::move(bar));
+  cases.push_back(std::move(capsule));
+  const std::filesystem::path dir = freeform::bench::mesh_dir();
+  if (auto c = test::cactus_whole_bend(dir)) cases.push_back(std::move(*c));
+  // mesh, limbs, support radius (fraction of the diagonal), midpoint subdivisions
+  struct Source { const char* name; int limbs; double radius; int subdivide; };
+  std::vector<Source> sources = {{"armadillo", 3, 0.18, 0}, {"bunny00", 2, 0.2, 0},   {"elephant", 3, 0.2, 0},
+                                 {"cactus", 2, 0.25, 1},    {"camel", 3, 0.2, 0},     {"cow", 3, 0.2, 0},
+                                 {"dino", 3, 0.18, 0},      {"hand", 3, 0.2, 0},      {"triceratops", 3, 0.18, 0},
+                                 {"man", 3, 0.18, 0},       {"elk", 3, 0.2, 0},       {"homer", 2, 0.2, 0}};
+  if (o.quick) sources.resize(4);
+  std::mt19937 rng(o.seed);
+  for (const Source& src : sources) {
+    const std::filesystem::path file = dir / (std::string(src.name) + ".off");
+    if (!std::filesystem::exists(file)) {
+      std::fprintf(stderr, "gallery: %s missing (scripts/fetch-data.sh), skipped\n", file.c_str());
+      continue;
+    }
+    TriangleSoup soup = read_mesh(file.string()).soup;
+    for (int i = 0; i < src.subdivide; ++i) soup = subdivide_midpoint(soup);
+    const Mesh mesh = Mesh::from_soup(soup);
+    for (Shape& s : freeform::bench::limb_cases(src.name, mesh, src.limbs, src.radius, rng)) cases.push_back(std::move(s));
+  }
+  return cases;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) try {
+  const Options o = parse(argc, argv);
+  std::vector<Config> configs = {{"k2", 2, true, false},        {"k3", 3, true, false}, {"k2 multires off", 2, false, false},
+                                 {"k3 multires off", 3, false, false}, {"k2 C0", 2, true, true}};
+  if (!o.out.empty()) std::filesystem::create_directories(o.out);
+  nlohmann::json out = nlohmann::json::array();
+  for (const Shape& s : gallery(o)) {
+    const bool closed = is_closed(s.mesh);
+    nlohmann::json runs = nlohmann::json::array();
+    VertexData<Vec3> p;
+    for (const Config& c : configs) {
+      runs.push_back(run_freeform(s, c, closed, p));
+      if (!o.out.empty() && c.name == "k3") write_result(o.out, s.name + "-freeform", s.mesh, p);
+    }
+#ifdef FREEFORM_HAVE_CGAL
+    if (o.peer) {
+      runs.push_back(run_cgal<CGAL::SPOKES_AND_RIMS>(s, "CGAL ARAP", o.peer_iterations, closed, p));
+      if (!o.out.empty()) write_result(o.out, s.name + "-arap", s.mesh, p);
+      runs.push_back(run_cgal<CGAL::SRE_ARAP>(s, "CGAL SR-ARAP", o.peer_iterations, closed, p));
+    }
+#endif
+    if (!o.out.empty()) write_result(o.out, s.name + "-rest", s.mesh, s.mesh.positions());
+    out.push_back({{"case", s.name}, {"vertices", s.mesh.n_vertices()}, {"support", s.edit.support.size()},
+                   {"handles", s.edit.handles.size()}, {"closed", closed}, {"runs", runs}});
+    std::fprintf(stderr, "%-34s", s.name.c_str());
+    for (const nlohmann::json& r : runs)
+      if (r.contains("error"))
+        std::fprintf(stderr, " | error");
+      else
+        std::fprintf(stderr, " | %4d %4d", r["folded_edges"].get<int>(), r["collapsed_faces"].get<int>());
+    std::fprintf(stderr, "\n");
+  }
+  std::cout << out.dump(1) << "\n";
+  return 0;
+} catch (const std::exception& e) {
+  std::fprintf(stderr, "bench_gallery: %s\n", e.what());
+  return 1;
+}

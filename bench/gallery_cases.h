@@ -1,0 +1,146 @@
+// The gallery's edits (bench_gallery.cpp): seeded limb edits on real meshes that nobody tuned
+// the nonlinear model for, plus the survey's generated shapes. A limb edit takes a geodesic ball
+// around an extremity (farthest-point samples of the edge-path distance) as the support and its
+// inner third as the handle; the limb's axis runs from the ball's rim to the handle, and the
+// handle is bent away from the body about the rim, twisted about the axis, or pulled along it.
+#pragma once
+
+#include "nonlinear/survey_shapes.h"
+
+#include "freeform/regions/selectors.h"
+
+#include <algorithm>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace freeform::bench {
+
+using test::Shape;
+
+enum class LimbEdit { Bend, Twist, Pull };
+
+inline const char* limb_edit_name(LimbEdit e) {
+  return e == LimbEdit::Bend ? "bend" : e == LimbEdit::Twist ? "twist" : "pull";
+}
+
+// Farthest-point samples of the edge-path distance, starting at the vertex farthest from the
+// centroid: the tips of limbs, tails and heads first.
+inline std::vector<Vertex> extremities(const Mesh& mesh, int count) {
+  Vec3 centroid = Vec3::Zero();
+  for (Vertex v : mesh.vertices()) centroid += mesh.position(v) / static_cast<double>(mesh.n_vertices());
+  Vertex first(0);
+  for (Vertex v : mesh.vertices())
+    if ((mesh.position(v) - centroid).norm() > (mesh.position(first) - centroid).norm()) first = v;
+  std::vector<Vertex> out{first};
+  VertexData<double> nearest = geodesic_distance(mesh, first);
+  while (static_cast<int>(out.size()) < count) {
+    Vertex next(0);
+    for (Vertex v : mesh.vertices())
+      if (std::isfinite(nearest[v]) && nearest[v] > nearest[next]) next = v;
+    out.push_back(next);
+    const VertexData<double> d = geodesic_distance(mesh, next);
+    for (Vertex v : mesh.vertices()) nearest[v] = std::min(nearest[v], d[v]);
+  }
+  return out;
+}
+
+struct Limb {
+  std::vector<Vertex> support, handle;
+  Vec3 rim = Vec3::Zero();    // centroid of the support's boundary ring (the limb's root)
+  Vec3 tip = Vec3::Zero();    // the handle's centroid
+  Vec3 axis = Vec3::UnitZ();  // from rim to tip, unit
+};
+
+// The geodesic ball of `radius` around `tip_vertex` and its inner third; nullopt when the
+// ball is not a limb (it reaches most of the mesh, or its rim is empty).
+inline std::optional<Limb> limb(const Mesh& mesh, Vertex tip_vertex, double radius) {
+  Limb l;
+  const Vec3 c = mesh.position(tip_vertex);
+  l.support = select_geodesic(mesh, c, radius, "support");
+  l.handle = select_geodesic(mesh, c, radius / 3.0, "handle");
+  if (l.support.size() * 2 > static_cast<std::size_t>(mesh.n_vertices()) || l.handle.size() < 3) return std::nullopt;
+  std::vector<char> in(static_cast<std::size_t>(mesh.n_vertices()), 0);
+  for (Vertex v : l.support) in[static_cast<std::size_t>(v.idx())] = 1;
+  int rim_count = 0;
+  for (Vertex v : l.support) {
+    bool on_rim = false;
+    for (Halfedge h : mesh.outgoing(v)) on_rim = on_rim || !in[static_cast<std::size_t>(mesh.to_vertex(h).idx())];
+    if (on_rim) l.rim += mesh.position(v), ++rim_count;
+  }
+  if (rim_count == 0) return std::nullopt;
+  l.rim /= rim_count;
+  for (Vertex v : l.handle) l.tip += mesh.position(v) / static_cast<double>(l.handle.size());
+  if (!((l.tip - l.rim).norm() > 0)) return std::nullopt;
+  l.axis = (l.tip - l.rim).normalized();
+  return l;
+}
+
+// Bend about the rim (the handle swings away from the body's centroid), twist about the axis,
+// or pull along it by `amount` (degrees; for a pull the fraction of the limb's length).
+inline Eigen::Affine3d limb_transform(const Mesh& mesh, const Limb& l, LimbEdit kind, double amount) {
+  if (kind == LimbEdit::Pull) return Eigen::Affine3d(Eigen::Translation3d(amount * (l.tip - l.rim)));
+  if (kind == LimbEdit::Twist) return test::rotation_about(l.rim, amount, l.axis);
+  Vec3 centroid = Vec3::Zero();
+  for (Vertex v : mesh.vertices()) centroid += mesh.position(v) / static_cast<double>(mesh.n_vertices());
+  Vec3 away = l.rim - centroid;
+  away -= away.dot(l.axis) * l.axis;
+  if (away.norm() < 1e-9 * (l.tip - l.rim).norm()) away = l.axis.unitOrthogonal();
+  // Rotating about axis x away moves the tip (along the axis from the rim) toward `away`.
+  return test::rotation_about(l.rim, amount, l.axis.cross(away.normalized()));
+}
+
+inline Shape limb_case(const std::string& name, const Mesh& mesh, const std::vector<const Limb*>& limbs,
+                       const std::vector<Eigen::Affine3d>& transforms) {
+  Shape s{name, mesh, {}};
+  for (std::size_t i = 0; i < limbs.size(); ++i) {
+    s.edit.support.insert(s.edit.support.end(), limbs[i]->support.begin(), limbs[i]->support.end());
+    EditHandle h;
+    h.vertices = limbs[i]->handle;
+    h.matrix = transforms[i];
+    s.edit.handles.push_back(h);
+  }
+  std::sort(s.edit.support.begin(), s.edit.support.end());
+  s.edit.support.erase(std::unique(s.edit.support.begin(), s.edit.support.end()), s.edit.support.end());
+  return s;
+}
+
+// `per_mesh` seeded edits on each limb of the mesh: a bend (60-150 degrees), a twist (90-180),
+// a pull (30 %), and both first limbs bent at once (several handles).
+inline std::vector<Shape> limb_cases(const std::string& mesh_name, const Mesh& mesh, int n_limbs, double radius_frac,
+                                     std::mt19937& rng) {
+  Vec3 lo = mesh.position(Vertex(0)), hi = lo;
+  for (Vertex v : mesh.vertices()) lo = lo.cwiseMin(mesh.position(v)), hi = hi.cwiseMax(mesh.position(v));
+  const double radius = radius_frac * (hi - lo).norm();
+  std::vector<Limb> limbs;
+  for (Vertex tip : extremities(mesh, n_limbs))
+    if (auto l = limb(mesh, tip, radius)) limbs.push_back(std::move(*l));
+  std::uniform_real_distribution<double> bend(60, 150), twist(90, 180);
+  std::vector<Shape> out;
+  for (std::size_t i = 0; i < limbs.size(); ++i) {
+    const std::string stem = mesh_name + "-limb" + std::to_string(i);
+    const double b = std::round(bend(rng)), t = std::round(twist(rng));
+    out.push_back(limb_case(stem + "-bend" + std::to_string(static_cast<int>(b)), mesh, {&limbs[i]},
+                            {limb_transform(mesh, limbs[i], LimbEdit::Bend, b)}));
+    out.push_back(limb_case(stem + "-twist" + std::to_string(static_cast<int>(t)), mesh, {&limbs[i]},
+                            {limb_transform(mesh, limbs[i], LimbEdit::Twist, t)}));
+    if (i == 0)
+      out.push_back(limb_case(stem + "-pull30", mesh, {&limbs[i]}, {limb_transform(mesh, limbs[i], LimbEdit::Pull, 0.3)}));
+  }
+  if (limbs.size() >= 2) {
+    // Disjoint supports only: two handles inside one connected support would be another edit.
+    std::vector<Vertex> both;
+    std::set_intersection(limbs[0].support.begin(), limbs[0].support.end(), limbs[1].support.begin(),
+                          limbs[1].support.end(), std::back_inserter(both));
+    if (both.empty()) {
+      const double b = std::round(bend(rng));
+      out.push_back(limb_case(mesh_name + "-two-limbs-bend" + std::to_string(static_cast<int>(b)), mesh,
+                              {&limbs[0], &limbs[1]},
+                              {limb_transform(mesh, limbs[0], LimbEdit::Bend, b),
+                               limb_transform(mesh, limbs[1], LimbEdit::Bend, b)}));
+    }
+  }
+  return out;
+}
+
+}  // namespace freeform::bench

@@ -1,0 +1,59 @@
+#!/usr/bin/env python3
+"""Summarizes bench_gallery's JSON: per method the totals of folded edges and collapsed faces,
+unconverged runs, the slowest run, and per Freeform method the cases worse than the peer
+(CGAL ARAP) by more than 2 folded edges or 2 collapsed faces, worst first.
+    scripts/gallery-summary.py gallery.json [--peer "CGAL ARAP"]"""
+import json
+import sys
+
+
+def main() -> int:
+    args = sys.argv[1:]
+    if not args:
+        print(__doc__, file=sys.stderr)
+        return 2
+    peer = "CGAL ARAP"
+    if "--peer" in args:
+        i = args.index("--peer")
+        peer = args[i + 1]
+        del args[i:i + 2]
+    with open(args[0], encoding="utf-8") as f:
+        cases = json.load(f)
+    methods: dict[str, dict] = {}
+    for case in cases:
+        runs = {r["method"]: r for r in case["runs"]}
+        ref = runs.get(peer)
+        for name, r in runs.items():
+            m = methods.setdefault(name, {"folds": 0, "collapsed": 0, "errors": 0, "unconverged": 0,
+                                          "max_ms": 0.0, "worse": [], "cases": 0})
+            m["cases"] += 1
+            if "error" in r:
+                m["errors"] += 1
+                continue
+            m["folds"] += r["folded_edges"]
+            m["collapsed"] += r["collapsed_faces"]
+            m["unconverged"] += 0 if r.get("converged", True) else 1
+            m["max_ms"] = max(m["max_ms"], r.get("precompute_ms", 0) + r.get("solve_ms", 0))
+            if ref and "error" not in ref and name != peer:
+                df = r["folded_edges"] - ref["folded_edges"]
+                dc = r["collapsed_faces"] - ref["collapsed_faces"]
+                if df > 2 or dc > 2 or (ref["folded_edges"] == 0 and r["folded_edges"] > 0):
+                    m["worse"].append((max(df, dc), case["case"], r["folded_edges"], ref["folded_edges"],
+                                       r["collapsed_faces"], ref["collapsed_faces"]))
+    print(f"| method | cases | folded edges | collapsed faces | worse than {peer} | unconverged | errors | slowest (ms) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for name, m in methods.items():
+        worse = "" if name == peer else str(len(m["worse"]))
+        print(f"| {name} | {m['cases']} | {m['folds']} | {m['collapsed']} | {worse} | {m['unconverged']} | "
+              f"{m['errors']} | {m['max_ms']:.0f} |")
+    for name, m in methods.items():
+        if not m["worse"]:
+            continue
+        print(f"\n{name}: worst cases against {peer} (folds ours/peer, collapsed ours/peer)")
+        for _, case, f, pf, c, pc in sorted(m["worse"], reverse=True)[:8]:
+            print(f"  {case}: {f}/{pf}, {c}/{pc}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
