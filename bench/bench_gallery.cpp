@@ -207,7 +207,8 @@ std::vector<Shape> gallery(const Options& o) {
   std::vector<Source> sources = {{"armadillo", 3, 0.18, 0}, {"bunny00", 2, 0.2, 0},   {"elephant", 3, 0.2, 0},
                                  {"cactus", 2, 0.25, 1},    {"camel", 3, 0.2, 0},     {"cow", 3, 0.2, 0},
                                  {"dino", 3, 0.18, 0},      {"hand", 3, 0.2, 0},      {"triceratops", 3, 0.18, 0},
-                                 {"man", 3, 0.18, 0},       {"elk", 3, 0.2, 0},       {"homer", 2, 0.2, 0}};
+                                 {"man", 3, 0.18, 0},       {"elk", 3, 0.2, 0},       {"homer", 2, 0.2, 0},
+                                 {"armadillo", 2, 0.3, 1},  {"bunny00", 1, 0.35, 1}};  // large supports
   if (o.quick) sources.resize(4);
   std::mt19937 rng(o.seed);
   for (const Source& src : sources) {
@@ -219,7 +220,8 @@ std::vector<Shape> gallery(const Options& o) {
     TriangleSoup soup = read_mesh(file.string()).soup;
     for (int i = 0; i < src.subdivide; ++i) soup = subdivide_midpoint(soup);
     const Mesh mesh = Mesh::from_soup(soup);
-    for (Shape& s : freeform::bench::limb_cases(src.name, mesh, src.limbs, src.radius, rng)) cases.push_back(std::move(s));
+    const std::string label = src.subdivide > 0 ? std::string(src.name) + "-sub" + std::to_string(src.subdivide) : src.name;
+    for (Shape& s : freeform::bench::limb_cases(label, mesh, src.limbs, src.radius, rng)) cases.push_back(std::move(s));
   }
   return cases;
 }

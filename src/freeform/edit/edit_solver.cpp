@@ -102,9 +102,7 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
     // The plain linear frame scatters rows into the mesh: rows in vertex order (RowOrder).
     bcm_ = std::make_unique<BcmSolver>(mesh, regions_, edit.settings, progress, nullptr, nonlinear,
                                        nonlinear ? RowOrder::BreadthFirst : RowOrder::ByIndex, &analysis);
-    if (nonlinear)
-      nonlinear_ = std::make_unique<NonlinearSolver>(mesh, regions_, *bcm_, mesh.positions(), edit.nonlinear,
-                                                     detail_by_model);
+    if (nonlinear) nonlinear_ = std::make_unique<NonlinearSolver>(mesh, regions_, *bcm_, mesh.positions(), edit.nonlinear);
   }
   stats_.bcm = bcm().stats();
   if (multires_) stats_.multires = multires_->stats();

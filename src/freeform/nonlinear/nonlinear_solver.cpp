@@ -26,8 +26,6 @@ constexpr double kWeightFloor = 1e-3;
 // vertex count), so the smoothed patch covers a similar part of it at any resolution.
 // Measured (docs/nonlinear.md): 8-10 rings suit the bar and capsule (~1,700 free); the S-bent
 // plane (32k free) folds its first bumps below ~40; the cap bounds the cost per iteration.
-// Where the detail overhangs its base (limbs, ears) the minimum: a wider fit smears the
-// rotation across a joint and squeezes its faces.
 constexpr double kSmoothingPerSqrtFree = 0.25;
 constexpr int kMinSmoothingRings = 8, kMaxSmoothingRings = 64;
 
@@ -88,7 +86,7 @@ struct NonlinearSolver::Data {
 };
 
 NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSolver& linear,
-                                 const VertexData<Vec3>& rest, const NonlinearOptions& options, bool overhanging_detail)
+                                 const VertexData<Vec3>& rest, const NonlinearOptions& options)
     : d_(std::make_unique<Data>()), options_(options) {
   Data& d = *d_;
   d.sys = linear.release_system();
@@ -114,10 +112,10 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
     d.owner[static_cast<std::size_t>(j)] = h >= 0 ? regions.movable_index(h) : -1;
   }
   d.x = d.rest;
-  const int grown = static_cast<int>(std::lround(kSmoothingPerSqrtFree * std::sqrt(double(p))));
-  d.smoothing_rings = options.rotation_smoothing >= 0 ? options.rotation_smoothing
-                      : overhanging_detail         ? kMinSmoothingRings
-                                                   : std::clamp(grown, kMinSmoothingRings, kMaxSmoothingRings);
+  d.smoothing_rings = options.rotation_smoothing >= 0
+                          ? options.rotation_smoothing
+                          : std::clamp(static_cast<int>(std::lround(kSmoothingPerSqrtFree * std::sqrt(double(p)))),
+                                       kMinSmoothingRings, kMaxSmoothingRings);
   if (p + c > 0) d.extent = std::max((d.rest.colwise().maxCoeff() - d.rest.colwise().minCoeff()).norm(), 1e-300);
 
   // Guidance weights: a translation t moves free vertex i by (sum of its basis row over the

@@ -37,11 +37,9 @@ struct NonlinearOptions {
   // box diagonal) in the last iteration.
   double tolerance = 1e-4;
   // Rings of neighbours whose edges the rotation fit of a vertex also uses (0: the 1-ring only;
-  // -1: automatic: 0.25 sqrt(free vertices) within [8, 64], or 8 where the model carries detail
-  // that overhangs its base). Measured (docs/nonlinear.md): 8 converges in 3-10x fewer
-  // iterations than 0 on the bar and capsule; the S-bent plane (32k free) needs ~40 to keep its
-  // bumps unfolded; on limbs a wide fit smears the rotation across the joint and squeezes faces
-  // (the gallery at k = 2: 2,129 collapsed faces with the growing width, 1,034 with 8).
+  // -1: automatic, 0.25 sqrt(free vertices) within [8, 64]). Measured (docs/nonlinear.md): 8
+  // keeps the bar's and capsule's volume within 15 % where 0 loses up to 45 %, and converges
+  // in 3-10x fewer iterations; the S-bent plane (32k free) needs ~40 to keep its bumps unfolded.
   int rotation_smoothing = -1;
   // Keep the enclosed volume of every closed component with free vertices (times the mean
   // cube of the handles' scale field); open meshes are not affected.
@@ -67,11 +65,9 @@ class NonlinearSolver {
 
   // `linear` must have been built with keep_system (its factored system is taken over) from the
   // same mesh and regions. `rest`: the shape the model keeps (#V entries): the mesh's positions,
-  // or the multiresolution base. `overhanging_detail`: the rest's detail overhangs its smooth
-  // base (limbs, ears), so the automatic fit width stays at its minimum. Throws InternalError if
-  // `linear` kept no system.
+  // or the multiresolution base. Throws InternalError if `linear` kept no system.
   NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSolver& linear, const VertexData<Vec3>& rest,
-                  const NonlinearOptions& options = {}, bool overhanging_detail = false);
+                  const NonlinearOptions& options = {});
   ~NonlinearSolver();
   NonlinearSolver(NonlinearSolver&&) noexcept;
   NonlinearSolver& operator=(NonlinearSolver&&) noexcept;
