@@ -24,7 +24,7 @@ struct OperatorShape {
 };
 
 // Empty positions with a reason when the foot points fold a triangle or squeeze it below a
-// tenth in some direction (detail that overhangs its base, as on the armadillo's ear or
+// quarter in some direction (detail that overhangs its base, as on the armadillo's ear or
 // fandisk's walls, or as tall as its base is wide, as a long tube over its pinched membrane) or with
 // settings.anisotropic (that operator has its own domain).
 OperatorShape base_operator_shape(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
