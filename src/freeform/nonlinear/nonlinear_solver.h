@@ -37,9 +37,10 @@ struct NonlinearOptions {
   // box diagonal) in the last iteration.
   double tolerance = 1e-4;
   // Rings of neighbours whose edges the rotation fit of a vertex also uses (0: the 1-ring only;
-  // -1: automatic, 0.25 sqrt(free vertices) within [8, 64]). Measured (docs/nonlinear.md): 8
+  // -1: automatic, 0.25 sqrt(free vertices) within [2, 64]). Measured (docs/nonlinear.md): 8
   // keeps the bar's and capsule's volume within 15 % where 0 loses up to 45 %, and converges
-  // in 3-10x fewer iterations; the S-bent plane (32k free) needs ~40 to keep its bumps unfolded.
+  // in 3-10x fewer iterations; the S-bent plane (32k free) needs ~40 to keep its bumps unfolded;
+  // on a limb of a few hundred vertices 8 rings cover it all and it cannot twist.
   int rotation_smoothing = -1;
   // Keep the enclosed volume of every closed component with free vertices (times the mean
   // cube of the handles' scale field); open meshes are not affected.
