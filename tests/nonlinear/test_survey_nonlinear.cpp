@@ -127,8 +127,8 @@ TEST(SurveyNonlinear, CactusArm70) {
 }
 
 // The whole cactus bent sideways about its foot, arms included (gallery_cases.h's
-// "cactus-whole"): k = 2 is clean. At k = 3 the model's own fixed point is bad (measured: 5
-// folded edges, min sigma 0.21, one arm through the trunk; the plain iteration reaches the same
+// "cactus-whole"): k = 2 is clean. At k = 3 the model's own fixed point is bad (measured: 6
+// folded edges, min sigma 0.16, one arm through the trunk; the plain iteration reaches the same
 // point): its global step minimizes only the Dirichlet energy of the Laplacian mismatch
 // M^-1 (L x - b(R)), so an arm that bends with a uniform mismatch costs nothing
 // (docs/nonlinear.md, "Known gaps"). Enabled once that is fixed.
