@@ -57,14 +57,7 @@ nlohmann::json quality(const Shape& s, const VertexData<Vec3>& p, bool closed) {
   int collapsed = 0;
   double min_sv = std::numeric_limits<double>::infinity();
   for (Face f : m.faces()) {
-    const auto c = m.vertices(f);
-    const Vec3 e1 = rest[c[1]] - rest[c[0]], e2 = rest[c[2]] - rest[c[0]];
-    const Vec3 u = e1.normalized(), w = (e2 - e2.dot(u) * u).normalized();
-    Eigen::Matrix2d r;
-    r << e1.dot(u), e2.dot(u), e1.dot(w), e2.dot(w);
-    Eigen::Matrix<double, 3, 2> d;
-    d << p[c[1]] - p[c[0]], p[c[2]] - p[c[0]];
-    const double sv = Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(d * r.inverse()).singularValues()[1];
+    const double sv = test::face_min_singular_value(m, rest, p, f);
     if (!(sv >= kCollapsedSigma)) ++collapsed;
     min_sv = std::min(min_sv, std::isfinite(sv) ? sv : 0.0);
   }

@@ -128,21 +128,25 @@ inline double volume(const Mesh& mesh, const VertexData<Vec3>& p) {
   return v;
 }
 
-// Smallest singular value over faces of the deformation gradient (rest triangle -> deformed),
-// the collapse measure: 1 for rigid motions, < 1 where a face shrinks in some direction.
+// Smallest singular value of face f's deformation gradient (rest triangle -> deformed), the
+// collapse measure: 1 for rigid motions, < 1 where the face shrinks in some direction.
+inline double face_min_singular_value(const Mesh& mesh, const VertexData<Vec3>& rest, const VertexData<Vec3>& p,
+                                      Face f) {
+  const auto c = mesh.vertices(f);
+  const Vec3 e1 = rest[c[1]] - rest[c[0]], e2 = rest[c[2]] - rest[c[0]];
+  const Vec3 u = e1.normalized(), w = (e2 - e2.dot(u) * u).normalized();
+  Eigen::Matrix2d r;
+  r << e1.dot(u), e2.dot(u), e1.dot(w), e2.dot(w);
+  Eigen::Matrix<double, 3, 2> d;
+  d << p[c[1]] - p[c[0]], p[c[2]] - p[c[0]];
+  const Eigen::Matrix<double, 3, 2> j = d * r.inverse();
+  return Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(j).singularValues()[1];
+}
+
+// The smallest over all faces.
 inline double min_singular_value(const Mesh& mesh, const VertexData<Vec3>& rest, const VertexData<Vec3>& p) {
   double lo = std::numeric_limits<double>::infinity();
-  for (Face f : mesh.faces()) {
-    const auto c = mesh.vertices(f);
-    const Vec3 e1 = rest[c[1]] - rest[c[0]], e2 = rest[c[2]] - rest[c[0]];
-    const Vec3 u = e1.normalized(), w = (e2 - e2.dot(u) * u).normalized();
-    Eigen::Matrix2d r;
-    r << e1.dot(u), e2.dot(u), e1.dot(w), e2.dot(w);
-    Eigen::Matrix<double, 3, 2> d;
-    d << p[c[1]] - p[c[0]], p[c[2]] - p[c[0]];
-    const Eigen::Matrix<double, 3, 2> j = d * r.inverse();
-    lo = std::min(lo, Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(j).singularValues()[1]);
-  }
+  for (Face f : mesh.faces()) lo = std::min(lo, face_min_singular_value(mesh, rest, p, f));
   return lo;
 }
 
