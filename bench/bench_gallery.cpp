@@ -6,8 +6,8 @@
 // (closed meshes), iterations, converged, time. JSON on stdout, a summary table on stderr.
 //   bench_gallery [--quick] [--no-peer] [--out DIR] [--peer-iterations N] [--seed S]
 // --out writes each case's rest and deformed meshes (OFF) for scripts/gallery.sh's contact sheet.
-#include "build_paths.h"
 #include "bench_meshes.h"
+#include "build_paths.h"
 #include "gallery_cases.h"
 
 #include "freeform/edit/edit_solver.h"
@@ -119,7 +119,8 @@ nlohmann::json run_cgal(const Shape& s, const char* name, int iterations, bool c
   const TriangleSoup soup = s.mesh.to_soup();
   SurfaceMesh sm;
   for (const Vec3& x : soup.positions) sm.add_vertex(Point(x.x(), x.y(), x.z()));
-  for (const Tri& f : soup.faces) sm.add_face(sm_vertex(Vertex(f[0])), sm_vertex(Vertex(f[1])), sm_vertex(Vertex(f[2])));
+  for (const Tri& f : soup.faces)
+    sm.add_face(sm_vertex(Vertex(f[0])), sm_vertex(Vertex(f[1])), sm_vertex(Vertex(f[2])));
   auto clock = Clock::now();
   CGAL::Surface_mesh_deformation<SurfaceMesh, CGAL::Default, CGAL::Default, Tag> d(sm);
   for (Vertex v : s.edit.support) d.insert_roi_vertex(sm_vertex(v));
@@ -176,12 +177,18 @@ Options parse(int argc, char** argv) {
       if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
       return argv[++i];
     };
-    if (a == "--quick") o.quick = true;
-    else if (a == "--no-peer") o.peer = false;
-    else if (a == "--out") o.out = value();
-    else if (a == "--peer-iterations") o.peer_iterations = std::stoi(value());
-    else if (a == "--seed") o.seed = static_cast<unsigned>(std::stoul(value()));
-    else throw std::runtime_error("unknown option " + a);
+    if (a == "--quick")
+      o.quick = true;
+    else if (a == "--no-peer")
+      o.peer = false;
+    else if (a == "--out")
+      o.out = value();
+    else if (a == "--peer-iterations")
+      o.peer_iterations = std::stoi(value());
+    else if (a == "--seed")
+      o.seed = static_cast<unsigned>(std::stoul(value()));
+    else
+      throw std::runtime_error("unknown option " + a);
   }
   return o;
 }
@@ -196,11 +203,16 @@ std::vector<Shape> gallery(const Options& o) {
   const std::filesystem::path dir = freeform::bench::mesh_dir();
   if (auto c = test::cactus_whole_bend(dir)) cases.push_back(std::move(*c));
   // mesh, limbs, support radius (fraction of the diagonal), midpoint subdivisions
-  struct Source { const char* name; int limbs; double radius; int subdivide; };
-  std::vector<Source> sources = {{"armadillo", 3, 0.18, 0}, {"bunny00", 2, 0.2, 0},   {"elephant", 3, 0.2, 0},
-                                 {"cactus", 2, 0.25, 1},    {"camel", 3, 0.2, 0},     {"cow", 3, 0.2, 0},
-                                 {"dino", 3, 0.18, 0},      {"hand", 3, 0.2, 0},      {"triceratops", 3, 0.18, 0},
-                                 {"man", 3, 0.18, 0},       {"elk", 3, 0.2, 0},       {"homer", 2, 0.2, 0},
+  struct Source {
+    const char* name;
+    int limbs;
+    double radius;
+    int subdivide;
+  };
+  std::vector<Source> sources = {{"armadillo", 3, 0.18, 0}, {"bunny00", 2, 0.2, 0}, {"elephant", 3, 0.2, 0},
+                                 {"cactus", 2, 0.25, 1},    {"camel", 3, 0.2, 0},   {"cow", 3, 0.2, 0},
+                                 {"dino", 3, 0.18, 0},      {"hand", 3, 0.2, 0},    {"triceratops", 3, 0.18, 0},
+                                 {"man", 3, 0.18, 0},       {"elk", 3, 0.2, 0},     {"homer", 2, 0.2, 0},
                                  {"armadillo", 2, 0.3, 1},  {"bunny00", 1, 0.35, 1}};  // large supports
   if (o.quick) sources.resize(4);
   std::mt19937 rng(o.seed);
@@ -213,7 +225,8 @@ std::vector<Shape> gallery(const Options& o) {
     TriangleSoup soup = read_mesh(file.string()).soup;
     for (int i = 0; i < src.subdivide; ++i) soup = subdivide_midpoint(soup);
     const Mesh mesh = Mesh::from_soup(soup);
-    const std::string label = src.subdivide > 0 ? std::string(src.name) + "-sub" + std::to_string(src.subdivide) : src.name;
+    const std::string label =
+        src.subdivide > 0 ? std::string(src.name) + "-sub" + std::to_string(src.subdivide) : src.name;
     for (Shape& s : freeform::bench::limb_cases(label, mesh, src.limbs, src.radius, rng)) cases.push_back(std::move(s));
   }
   return cases;
@@ -223,8 +236,11 @@ std::vector<Shape> gallery(const Options& o) {
 
 int main(int argc, char** argv) try {
   const Options o = parse(argc, argv);
-  std::vector<Config> configs = {{"k2", 2, true, false},        {"k3", 3, true, false}, {"k2 multires off", 2, false, false},
-                                 {"k3 multires off", 3, false, false}, {"k2 C0", 2, true, true}};
+  std::vector<Config> configs = {{"k2", 2, true, false},
+                                 {"k3", 3, true, false},
+                                 {"k2 multires off", 2, false, false},
+                                 {"k3 multires off", 3, false, false},
+                                 {"k2 C0", 2, true, true}};
   if (!o.out.empty()) std::filesystem::create_directories(o.out);
   nlohmann::json out = nlohmann::json::array();
   for (const Shape& s : gallery(o)) {
@@ -243,8 +259,12 @@ int main(int argc, char** argv) try {
     }
 #endif
     if (!o.out.empty()) write_result(o.out, s.name + "-rest", s.mesh, s.mesh.positions());
-    out.push_back({{"case", s.name}, {"vertices", s.mesh.n_vertices()}, {"support", s.edit.support.size()},
-                   {"handles", s.edit.handles.size()}, {"closed", closed}, {"runs", runs}});
+    out.push_back({{"case", s.name},
+                   {"vertices", s.mesh.n_vertices()},
+                   {"support", s.edit.support.size()},
+                   {"handles", s.edit.handles.size()},
+                   {"closed", closed},
+                   {"runs", runs}});
     std::fprintf(stderr, "%-34s", s.name.c_str());
     for (const nlohmann::json& r : runs)
       if (r.contains("error"))

@@ -125,7 +125,8 @@ inline std::vector<Shape> limb_cases(const std::string& mesh_name, const Mesh& m
     out.push_back(limb_case(stem + "-twist" + std::to_string(static_cast<int>(t)), mesh, {&limbs[i]},
                             {limb_transform(mesh, limbs[i], LimbEdit::Twist, t)}));
     if (i == 0)
-      out.push_back(limb_case(stem + "-pull30", mesh, {&limbs[i]}, {limb_transform(mesh, limbs[i], LimbEdit::Pull, 0.3)}));
+      out.push_back(
+          limb_case(stem + "-pull30", mesh, {&limbs[i]}, {limb_transform(mesh, limbs[i], LimbEdit::Pull, 0.3)}));
   }
   if (limbs.size() >= 2) {
     // Disjoint supports only: two handles inside one connected support would be another edit.
@@ -134,10 +135,9 @@ inline std::vector<Shape> limb_cases(const std::string& mesh_name, const Mesh& m
                           limbs[1].support.end(), std::back_inserter(both));
     if (both.empty()) {
       const double b = std::round(bend(rng));
-      out.push_back(limb_case(mesh_name + "-two-limbs-bend" + std::to_string(static_cast<int>(b)), mesh,
-                              {&limbs[0], &limbs[1]},
-                              {limb_transform(mesh, limbs[0], LimbEdit::Bend, b),
-                               limb_transform(mesh, limbs[1], LimbEdit::Bend, b)}));
+      out.push_back(limb_case(
+          mesh_name + "-two-limbs-bend" + std::to_string(static_cast<int>(b)), mesh, {&limbs[0], &limbs[1]},
+          {limb_transform(mesh, limbs[0], LimbEdit::Bend, b), limb_transform(mesh, limbs[1], LimbEdit::Bend, b)}));
     }
   }
   return out;

@@ -95,7 +95,8 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
       if (nonlinear)
         detail_by_model = true;
       else
-        multires_ = std::make_unique<MultiresSolver>(mesh, regions_, edit.settings, options, progress, *shape, &analysis);
+        multires_ =
+            std::make_unique<MultiresSolver>(mesh, regions_, edit.settings, options, progress, *shape, &analysis);
     }
   }
   if (!multires_) {

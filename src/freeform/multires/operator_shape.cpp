@@ -16,11 +16,9 @@ namespace {
 // A foot-point triangle must keep its orientation against the membrane and may be squeezed to
 // no less than this fraction of its size in any direction (a slope of 75 degrees against the
 // base). Steeper detail (walls, overhangs) makes the projection degenerate, and so does detail
-// as tall as its base is wide: the membrane of a long tube pinches toward the axis (a 1 x 12
-// cylinder: 0.0074 mid-tube), its cotangents blow up, the k = 3 base system is numerically
-// singular and the "detail" is the whole radius. A finger (the gallery's hand, 0.13) twisted
-// or bent on its decomposed base folded 10-17 more edges than without the decomposition.
-// Detail that stands on its base is squeezed far less (the survey's bumpy plane: 0.52).
+// as tall as its base is wide: the membrane of a long tube pinches toward its axis, so the
+// "detail" is the whole radius and the base's cotangents blow up (docs/multires.md). Detail
+// that stands on its base is squeezed far less (the survey's bumpy plane: 0.52).
 constexpr double kMinStretch = 0.25;
 
 // Smallest singular value of the affine map from triangle (a, b, c) to (p, q, r): how far the
@@ -113,7 +111,8 @@ OperatorShape base_operator_shape(const Mesh& mesh, const Regions& regions, cons
   out.overhanging = bad;
   if (bad > 0) {
     out.fallback = "the detail overhangs its base at " + std::to_string(bad) +
-                   " triangles (foot points folded or squeezed below a quarter); the base bends with the detailed mesh's operator";
+                   " triangles (foot points folded or squeezed below a quarter); the base bends with the detailed "
+                   "mesh's operator";
     out.positions = VertexData<Vec3>(0);
   }
   out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -26,8 +26,8 @@ constexpr double kWeightFloor = 1e-3;
 // vertex count), so the smoothed patch covers a similar part of it at any resolution.
 // Measured (docs/nonlinear.md): 8-10 rings suit the bar and capsule (~1,700 free); the S-bent
 // plane (32k free) folds its first bumps below ~40; the cap bounds the cost per iteration.
-// Below ~1,000 free the width shrinks with the support too (it used to stay at 8, which covers
-// all of a small limb: the gallery's 100-700-vertex limbs folded and collapsed more).
+// Below ~1,000 free the width shrinks with the support too: 8 rings cover all of a small limb,
+// which then cannot twist.
 constexpr double kSmoothingPerSqrtFree = 0.25;
 constexpr int kMinSmoothingRings = 2, kMaxSmoothingRings = 64;
 
