@@ -8,7 +8,7 @@
 // --out writes each case's rest and deformed meshes (OFF) for scripts/gallery.sh's contact sheet.
 #include "bench_meshes.h"
 #include "build_paths.h"
-#include "gallery_cases.h"
+#include "nonlinear/gallery_cases.h"
 
 #include "freeform/edit/edit_solver.h"
 #include "freeform/io/mesh_io.h"
@@ -29,9 +29,7 @@
 #include <vector>
 
 #ifdef FREEFORM_HAVE_CGAL
-#include <CGAL/Simple_cartesian.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/Surface_mesh_deformation.h>
+#include "nonlinear/cgal_arap.h"
 #endif
 
 namespace {
@@ -112,38 +110,13 @@ nlohmann::json run_freeform(const Shape& shape, const Config& c, bool closed, Ve
 #ifdef FREEFORM_HAVE_CGAL
 template <CGAL::Deformation_algorithm_tag Tag>
 nlohmann::json run_cgal(const Shape& s, const char* name, int iterations, bool closed, VertexData<Vec3>& p) {
-  using Point = CGAL::Simple_cartesian<double>::Point_3;
-  using SurfaceMesh = CGAL::Surface_mesh<Point>;
-  using SmVertex = SurfaceMesh::Vertex_index;
-  auto sm_vertex = [](Vertex v) { return SmVertex(static_cast<SurfaceMesh::size_type>(v.idx())); };
-  const TriangleSoup soup = s.mesh.to_soup();
-  SurfaceMesh sm;
-  for (const Vec3& x : soup.positions) sm.add_vertex(Point(x.x(), x.y(), x.z()));
-  for (const Tri& f : soup.faces)
-    sm.add_face(sm_vertex(Vertex(f[0])), sm_vertex(Vertex(f[1])), sm_vertex(Vertex(f[2])));
-  auto clock = Clock::now();
-  CGAL::Surface_mesh_deformation<SurfaceMesh, CGAL::Default, CGAL::Default, Tag> d(sm);
-  for (Vertex v : s.edit.support) d.insert_roi_vertex(sm_vertex(v));
-  for (const EditHandle& h : s.edit.handles)
-    for (Vertex v : h.vertices) d.insert_control_vertex(sm_vertex(v));
-  if (!d.preprocess()) return {{"method", name}, {"error", "preprocess failed"}};
-  const double pre = ms_since(clock);
-  for (const EditHandle& h : s.edit.handles)
-    for (Vertex v : h.vertices) {
-      const Vec3 y = *h.matrix * s.mesh.position(v);
-      d.set_target_position(sm_vertex(v), Point(y.x(), y.y(), y.z()));
-    }
-  clock = Clock::now();
-  // From the same start as Freeform (the rest, handles moved); CGAL stops when the relative
-  // energy change falls below 1e-6 or after `iterations`.
-  d.deform(static_cast<unsigned>(iterations), 1e-6);
-  const double solve = ms_since(clock);
-  p = s.mesh.positions();
-  for (Vertex v : s.mesh.vertices()) {
-    const Point& q = sm.point(sm_vertex(v));
-    p[v] = Vec3(q.x(), q.y(), q.z());
-  }
-  nlohmann::json j = {{"method", name}, {"precompute_ms", pre}, {"solve_ms", solve}, {"max_iterations", iterations}};
+  const std::optional<test::PeerResult> r = test::cgal_deform<Tag>(s, iterations);
+  if (!r) return {{"method", name}, {"error", "preprocess failed"}};
+  p = r->positions;
+  nlohmann::json j = {{"method", name},
+                      {"precompute_ms", r->precompute_ms},
+                      {"solve_ms", r->solve_ms},
+                      {"max_iterations", iterations}};
   j.update(quality(s, p, closed));
   return j;
 }
@@ -227,7 +200,7 @@ std::vector<Shape> gallery(const Options& o) {
     const Mesh mesh = Mesh::from_soup(soup);
     const std::string label =
         src.subdivide > 0 ? std::string(src.name) + "-sub" + std::to_string(src.subdivide) : src.name;
-    for (Shape& s : freeform::bench::limb_cases(label, mesh, src.limbs, src.radius, rng)) cases.push_back(std::move(s));
+    for (Shape& s : test::limb_cases(label, mesh, src.limbs, src.radius, rng)) cases.push_back(std::move(s));
   }
   return cases;
 }

@@ -1,11 +1,11 @@
-// The gallery's edits (bench_gallery.cpp): seeded limb edits on real meshes that nobody tuned
+// The gallery's edits (bench/bench_gallery.cpp, test_gallery_subset.cpp): seeded limb edits on real meshes that nobody tuned
 // the nonlinear model for, plus the survey's generated shapes. A limb edit takes a geodesic ball
 // around an extremity (farthest-point samples of the edge-path distance) as the support and its
 // inner third as the handle; the limb's axis runs from the ball's rim to the handle, and the
 // handle is bent away from the body about the rim, twisted about the axis, or pulled along it.
 #pragma once
 
-#include "nonlinear/survey_shapes.h"
+#include "survey_shapes.h"
 
 #include "freeform/regions/selectors.h"
 
@@ -14,9 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace freeform::bench {
-
-using test::Shape;
+namespace freeform::test {
 
 enum class LimbEdit { Bend, Twist, Pull };
 
@@ -80,14 +78,14 @@ inline std::optional<Limb> limb(const Mesh& mesh, Vertex tip_vertex, double radi
 // or pull along it by `amount` (degrees; for a pull the fraction of the limb's length).
 inline Eigen::Affine3d limb_transform(const Mesh& mesh, const Limb& l, LimbEdit kind, double amount) {
   if (kind == LimbEdit::Pull) return Eigen::Affine3d(Eigen::Translation3d(amount * (l.tip - l.rim)));
-  if (kind == LimbEdit::Twist) return test::rotation_about(l.rim, amount, l.axis);
+  if (kind == LimbEdit::Twist) return rotation_about(l.rim, amount, l.axis);
   Vec3 centroid = Vec3::Zero();
   for (Vertex v : mesh.vertices()) centroid += mesh.position(v) / static_cast<double>(mesh.n_vertices());
   Vec3 away = l.rim - centroid;
   away -= away.dot(l.axis) * l.axis;
   if (away.norm() < 1e-9 * (l.tip - l.rim).norm()) away = l.axis.unitOrthogonal();
   // Rotating about axis x away moves the tip (along the axis from the rim) toward `away`.
-  return test::rotation_about(l.rim, amount, l.axis.cross(away.normalized()));
+  return rotation_about(l.rim, amount, l.axis.cross(away.normalized()));
 }
 
 inline Shape limb_case(const std::string& name, const Mesh& mesh, const std::vector<const Limb*>& limbs,
@@ -143,4 +141,4 @@ inline std::vector<Shape> limb_cases(const std::string& mesh_name, const Mesh& m
   return out;
 }
 
-}  // namespace freeform::bench
+}  // namespace freeform::test
