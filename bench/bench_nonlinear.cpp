@@ -16,12 +16,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <vector>
 
 #ifdef FREEFORM_HAVE_CGAL
-#include <CGAL/Simple_cartesian.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/Surface_mesh_deformation.h>
+#include "nonlinear/cgal_arap.h"
 #endif
 
 namespace {
@@ -70,36 +69,14 @@ nlohmann::json run_freeform(Shape s, int order, int acceleration, int reps) {
 
 #ifdef FREEFORM_HAVE_CGAL
 nlohmann::json run_cgal_arap(const Shape& s, int reps) {
-  using Point = CGAL::Simple_cartesian<double>::Point_3;
-  using SurfaceMesh = CGAL::Surface_mesh<Point>;
-  using SmVertex = SurfaceMesh::Vertex_index;
-  const TriangleSoup soup = s.mesh.to_soup();
-  const Eigen::Affine3d t = *s.edit.handles.front().matrix;
   std::vector<double> pre, solve;
   VertexData<Vec3> p = s.mesh.positions();
   for (int r = 0; r < reps; ++r) {
-    SurfaceMesh sm;
-    for (const Vec3& x : soup.positions) sm.add_vertex(Point(x.x(), x.y(), x.z()));
-    for (const Tri& f : soup.faces)
-      sm.add_face(SmVertex(static_cast<SurfaceMesh::size_type>(f[0])), SmVertex(static_cast<SurfaceMesh::size_type>(f[1])),
-                  SmVertex(static_cast<SurfaceMesh::size_type>(f[2])));
-    auto clock = Clock::now();
-    CGAL::Surface_mesh_deformation<SurfaceMesh> d(sm);
-    for (Vertex v : s.edit.support) d.insert_roi_vertex(SmVertex(static_cast<SurfaceMesh::size_type>(v.idx())));
-    for (Vertex v : s.edit.handles.front().vertices) d.insert_control_vertex(SmVertex(static_cast<SurfaceMesh::size_type>(v.idx())));
-    if (!d.preprocess()) return {{"method", "CGAL ARAP"}, {"error", "preprocess failed"}};
-    pre.push_back(ms_since(clock));
-    for (Vertex v : s.edit.handles.front().vertices) {
-      const Vec3 y = t * s.mesh.position(v);
-      d.set_target_position(SmVertex(static_cast<SurfaceMesh::size_type>(v.idx())), Point(y.x(), y.y(), y.z()));
-    }
-    clock = Clock::now();
-    d.deform(20000, 1e-6);  // to convergence: relative energy change below 1e-6
-    solve.push_back(ms_since(clock));
-    for (Vertex v : s.mesh.vertices()) {
-      const Point& q = sm.point(SmVertex(static_cast<SurfaceMesh::size_type>(v.idx())));
-      p[v] = Vec3(q.x(), q.y(), q.z());
-    }
+    const std::optional<PeerResult> peer = cgal_deform(s, 20000);  // to convergence
+    if (!peer) return {{"method", "CGAL ARAP"}, {"error", "preprocess failed"}};
+    pre.push_back(peer->precompute_ms);
+    solve.push_back(peer->solve_ms);
+    p = peer->positions;
   }
   nlohmann::json j = {{"method", "CGAL ARAP"}, {"precompute_ms", median(pre)}, {"solve_ms", median(solve)}};
   j.update(quality(s, p));

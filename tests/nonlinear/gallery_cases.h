@@ -1,5 +1,5 @@
-// The gallery's edits (bench/bench_gallery.cpp, test_gallery_subset.cpp): seeded limb edits on real meshes that nobody tuned
-// the nonlinear model for, plus the survey's generated shapes. A limb edit takes a geodesic ball
+// The gallery's edits (bench/bench_gallery.cpp, test_gallery_subset.cpp): seeded limb edits on
+// real meshes that nobody tuned the nonlinear model for. A limb edit takes a geodesic ball
 // around an extremity (farthest-point samples of the edge-path distance) as the support and its
 // inner third as the handle; the limb's axis runs from the ball's rim to the handle, and the
 // handle is bent away from the body about the rim, twisted about the axis, or pulled along it.
@@ -18,18 +18,19 @@ namespace freeform::test {
 
 enum class LimbEdit { Bend, Twist, Pull };
 
-inline const char* limb_edit_name(LimbEdit e) {
-  return e == LimbEdit::Bend ? "bend" : e == LimbEdit::Twist ? "twist" : "pull";
+inline Vec3 centroid(const Mesh& mesh) {
+  Vec3 c = Vec3::Zero();
+  for (Vertex v : mesh.vertices()) c += mesh.position(v) / static_cast<double>(mesh.n_vertices());
+  return c;
 }
 
 // Farthest-point samples of the edge-path distance, starting at the vertex farthest from the
 // centroid: the tips of limbs, tails and heads first.
 inline std::vector<Vertex> extremities(const Mesh& mesh, int count) {
-  Vec3 centroid = Vec3::Zero();
-  for (Vertex v : mesh.vertices()) centroid += mesh.position(v) / static_cast<double>(mesh.n_vertices());
+  const Vec3 c = centroid(mesh);
   Vertex first(0);
   for (Vertex v : mesh.vertices())
-    if ((mesh.position(v) - centroid).norm() > (mesh.position(first) - centroid).norm()) first = v;
+    if ((mesh.position(v) - c).norm() > (mesh.position(first) - c).norm()) first = v;
   std::vector<Vertex> out{first};
   VertexData<double> nearest = geodesic_distance(mesh, first);
   while (static_cast<int>(out.size()) < count) {
@@ -79,9 +80,7 @@ inline std::optional<Limb> limb(const Mesh& mesh, Vertex tip_vertex, double radi
 inline Eigen::Affine3d limb_transform(const Mesh& mesh, const Limb& l, LimbEdit kind, double amount) {
   if (kind == LimbEdit::Pull) return Eigen::Affine3d(Eigen::Translation3d(amount * (l.tip - l.rim)));
   if (kind == LimbEdit::Twist) return rotation_about(l.rim, amount, l.axis);
-  Vec3 centroid = Vec3::Zero();
-  for (Vertex v : mesh.vertices()) centroid += mesh.position(v) / static_cast<double>(mesh.n_vertices());
-  Vec3 away = l.rim - centroid;
+  Vec3 away = l.rim - centroid(mesh);
   away -= away.dot(l.axis) * l.axis;
   if (away.norm() < 1e-9 * (l.tip - l.rim).norm()) away = l.axis.unitOrthogonal();
   // Rotating about axis x away moves the tip (along the axis from the rim) toward `away`.
@@ -103,8 +102,9 @@ inline Shape limb_case(const std::string& name, const Mesh& mesh, const std::vec
   return s;
 }
 
-// `per_mesh` seeded edits on each limb of the mesh: a bend (60-150 degrees), a twist (90-180),
-// a pull (30 %), and both first limbs bent at once (several handles).
+// Seeded edits on each of `n_limbs` limbs (support radius `radius_frac` of the diagonal): a bend
+// (60-150 degrees), a twist (90-180), on the first a pull (30 %), and both first limbs bent at
+// once (two handles) when their supports are disjoint.
 inline std::vector<Shape> limb_cases(const std::string& mesh_name, const Mesh& mesh, int n_limbs, double radius_frac,
                                      std::mt19937& rng) {
   Vec3 lo = mesh.position(Vertex(0)), hi = lo;
