@@ -3,6 +3,7 @@
 // with the same content, and a NaN reaches the edit reader (which names its key).
 #include "bindings.h"
 
+#include "freeform/common/error.h"
 #include "freeform/common/json_messages.h"
 
 #include <cstdint>
@@ -12,6 +13,29 @@ namespace {
 
 using json_messages::index_path;
 using json_messages::key_path;
+
+// Deeper than any edit needs, and far below what the C stack holds: a list nested 100,000 deep
+// (or one that contains itself) is refused instead of crashing the interpreter.
+constexpr int kMaxDepth = 1000;
+
+std::string where(const std::string& path, const char* preposition = " at ") {
+  if (path.empty()) return {};
+  constexpr std::size_t kShown = 60;
+  return preposition + std::string("\"") + (path.size() > kShown ? path.substr(0, kShown) + "..." : path) + "\"";
+}
+
+// UTF-8 of a Python str; a lone surrogate (not encodable) is named instead of pybind11's
+// generic cast error.
+std::string utf8(py::handle s, const std::string& name, const std::string& what, const std::string& path) {
+  Py_ssize_t size = 0;
+  const char* data = PyUnicode_AsUTF8AndSize(s.ptr(), &size);
+  if (!data) {
+    PyErr_Clear();
+    throw InvalidInput(name + ": " + what + " " + std::string(py::repr(s)) +
+                          " is not valid Unicode (a lone surrogate?)" + where(path));
+  }
+  return {data, static_cast<std::size_t>(size)};
+}
 
 Json from_int(py::handle obj) {
   int overflow = 0;
@@ -28,41 +52,42 @@ Json from_int(py::handle obj) {
   return obj.cast<double>();  // beyond 64 bits: a double, as JSON text would give
 }
 
-Json convert(py::handle obj, const std::string& name, const std::string& path) {
+Json convert(py::handle obj, const std::string& name, const std::string& path, int depth) {
+  if (depth > kMaxDepth)
+    throw InvalidInput(name + ": nested too deeply (more than " + std::to_string(kMaxDepth) + " levels)" +
+                          where(path));
   if (obj.is_none()) return nullptr;
   if (PyBool_Check(obj.ptr())) return obj.cast<bool>();
   if (PyLong_Check(obj.ptr())) return from_int(obj);
   if (PyFloat_Check(obj.ptr())) return obj.cast<double>();
-  if (PyUnicode_Check(obj.ptr())) return obj.cast<std::string>();
+  if (PyUnicode_Check(obj.ptr())) return utf8(obj, name, "string", path);
   if (PyDict_Check(obj.ptr())) {
     Json out = Json::object();
     for (auto [k, v] : py::reinterpret_borrow<py::dict>(obj)) {
       if (!PyUnicode_Check(k.ptr()))
-        throw py::type_error(name + ": keys must be strings, got " + std::string(py::repr(k)) +
-                             (path.empty() ? std::string() : " in \"" + path + "\""));
-      const std::string key = k.cast<std::string>();
-      out[key] = convert(v, name, key_path(path, key));
+        throw py::type_error(name + ": keys must be strings, got " + std::string(py::repr(k)) + where(path, " in "));
+      const std::string key = utf8(k, name, "key", path);
+      out[key] = convert(v, name, key_path(path, key), depth + 1);
     }
     return out;
   }
   if (PyList_Check(obj.ptr()) || PyTuple_Check(obj.ptr())) {
     Json out = Json::array();
     std::size_t i = 0;
-    for (py::handle item : obj) out.push_back(convert(item, name, index_path(path, i++)));
+    for (py::handle item : obj) out.push_back(convert(item, name, index_path(path, i++), depth + 1));
     return out;
   }
   const py::module_ np = py::module_::import("numpy");
-  if (py::isinstance<py::array>(obj)) return convert(obj.attr("tolist")(), name, path);
+  if (py::isinstance<py::array>(obj)) return convert(obj.attr("tolist")(), name, path, depth);
   if (py::isinstance(obj, np.attr("bool_"))) return obj.cast<bool>();
-  if (py::isinstance(obj, np.attr("integer"))) return convert(py::int_(py::reinterpret_borrow<py::object>(obj)), name, path);
+  if (py::isinstance(obj, np.attr("integer"))) return convert(py::int_(py::reinterpret_borrow<py::object>(obj)), name, path, depth);
   if (py::isinstance(obj, np.attr("floating"))) return obj.cast<double>();
-  throw py::type_error(name + ": cannot convert " + std::string(py::str(obj.get_type())) + " to JSON" +
-                       (path.empty() ? std::string() : " at \"" + path + "\""));
+  throw py::type_error(name + ": cannot convert " + std::string(py::str(obj.get_type())) + " to JSON" + where(path));
 }
 
 }  // namespace
 
-Json to_json(py::handle obj, const std::string& name) { return convert(obj, name, ""); }
+Json to_json(py::handle obj, const std::string& name) { return convert(obj, name, "", 0); }
 
 py::object to_python(const Json& j) {
   switch (j.type()) {

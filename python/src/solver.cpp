@@ -93,6 +93,7 @@ class PySolver {
       const std::lock_guard lock(mutex_);
       drag_.reset();
       solver_->evaluate(t, positions_);
+      require_finite(solver_->problems(positions_), t);  // as deform: never a silent NaN
       std::memcpy(dst, positions_.raw().data(), positions_.size() * sizeof(Vec3));
     }
     return out;
@@ -107,6 +108,7 @@ class PySolver {
     const std::lock_guard lock(mutex_);
     drag_.reset();
     solver_->evaluate(t, positions_);
+    require_finite(solver_->problems(positions_), t);
     copy_touched(dst);
   }
 

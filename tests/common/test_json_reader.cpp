@@ -17,6 +17,10 @@ TEST(JsonReader, ParseErrorsNameLineAndColumn) {
   EXPECT_THAT([] { parse_json_text("{\"a\": 1e999}", "f.json"); }, ThrowsMessage<IoError>(HasSubstr("f.json")));
   EXPECT_THAT([] { parse_json_text(R"({"x": {"a": 1, "a": 2}})", "f.json"); },
               ThrowsMessage<InvalidInput>(HasSubstr("f.json: the key \"a\" appears twice in one object")));
+  // nlohmann's parser stops at a NUL: text after it must not be ignored silently.
+  using namespace std::string_literals;
+  EXPECT_THAT([] { parse_json_text("{\"a\": 1}\n\0garbage"s, "f.json"); },
+              ThrowsMessage<IoError>(HasSubstr("f.json:2: NUL byte at column 1")));
   // The same key in sibling objects is fine; key order is kept.
   const Json j = parse_json_text(R"({"z": {"a": 1}, "y": {"a": 2}})", "f.json");
   EXPECT_EQ(j.begin().key(), "z");
@@ -30,6 +34,9 @@ TEST(JsonReader, TypedGettersRefuseWhatIsWrongAndNameThePath) {
   EXPECT_EQ(r.integer(j["i"], "i"), 7);
   EXPECT_TRUE(r.boolean(j["b"], "b"));
   EXPECT_EQ(r.string(j["s"], "s"), "x");
+  // A path cut at a NUL would name another file.
+  EXPECT_THAT([&] { r.string(Json(std::string("a.sel\0.junk", 11)), "sel"); },
+              ThrowsMessage<InvalidInput>(HasSubstr("f.json: \"sel\" contains a NUL byte")));
   EXPECT_EQ(r.vec3(j["v"], "v"), Eigen::Vector3d(1, 2, 3));
   EXPECT_EQ(r.matrix4(j["m"], "m"), Eigen::Matrix4d::Identity());
   EXPECT_THAT([&] { r.integer(j["n"], "a.n"); }, ThrowsMessage<InvalidInput>(HasSubstr("f.json: \"a.n\" must be an integer, got the number 1.5")));

@@ -170,7 +170,9 @@ TEST(EditFile, WrongTypesAndMissingKeys) {
               HasSubstr(R"("support.sphere.center[2]" must be a number)"));
   EXPECT_THAT(error(R"({"support": {"geodesic": {"center": [0, 0, 0]}}})"),
               HasSubstr(R"(missing required key "support.geodesic.radius")"));
-  EXPECT_THAT(error(R"({"support": {"sel": 5, "labels": [1]}})"), HasSubstr(R"("support.sel" must be a file name)"));
+  EXPECT_THAT(error(R"({"support": {"sel": 5, "labels": [1]}})"), HasSubstr(R"("support.sel" must be a string, got the integer 5)"));
+  EXPECT_THAT(error(R"({"support": {"sel": "plane.sel\u0000.junk", "labels": [1]}})"),
+              HasSubstr(R"("support.sel" contains a NUL byte)"));
   EXPECT_THAT(error(with_handle(R"({"transform": {}})")), HasSubstr(R"(missing required key "handles[0].region")"));
   EXPECT_THAT(error(with_handle("{" + kRegion + R"(, "fixed": "yes"})")), HasSubstr(R"("handles[0].fixed" must be true or false)"));
   EXPECT_THAT(error(with_handle("{" + kRegion + R"(, "transform": {"translate": [1, 2]}})")),

@@ -16,6 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::ThrowsMessage;
 
 // Coordinates that need all 17 significant digits, tiny and huge magnitudes, negative zero.
 TriangleSoup awkward_soup() {
@@ -135,6 +136,28 @@ TEST(WriteMesh, InvalidSoupThrowsAndLeavesTargetUntouched) {
   EXPECT_THROW(write_mesh(path, bad), InvalidInput);
   EXPECT_EQ(slurp(path), before);
   EXPECT_EQ(files_in(dir.path()), std::vector<std::string>{"keep.obj"});
+}
+
+TEST(WriteMesh, NeverWritesWhatTheReadersRefuse) {
+  ScratchDir dir;
+  for (const char* name : {"keep.off", "keep.obj", "keep.ply", "keep.stl"}) {
+    const std::string path = (dir / name).string();
+    write_mesh(path, tetra());
+    const std::string before = slurp(path);
+    TriangleSoup bad = tetra();
+    bad.positions[2].y() = std::nan("");
+    EXPECT_THAT([&] { write_mesh(path, bad); },
+                ThrowsMessage<InvalidInput>(HasSubstr(std::string(name) + ": cannot write vertex 2: its coordinate nan is not finite")));
+    EXPECT_EQ(slurp(path), before);
+  }
+  // 1e39 is a double but no float: STL (single precision) refuses it, the others keep it exactly.
+  TriangleSoup big = tetra();
+  big.positions[1].x() = 1e39;
+  EXPECT_THAT([&] { write_mesh((dir / "big.stl").string(), big); },
+              ThrowsMessage<InvalidInput>(HasSubstr("cannot write vertex 1: its coordinate 1e+39 is beyond the single precision of STL")));
+  EXPECT_FALSE(std::filesystem::exists(dir / "big.stl"));
+  write_mesh((dir / "big.off").string(), big);
+  EXPECT_EQ(read_mesh((dir / "big.off").string()).soup.positions[1].x(), 1e39);
 }
 
 TEST(FileUtil, ReadFileErrorsNameTheFile) {

@@ -125,3 +125,75 @@ def test_out_errors(solver):
         with pytest.raises(error, match=message):
             solver.evaluate_into(out, t)
         assert np.array_equal(np.asarray(out), before)  # untouched
+
+
+def test_hostile_edit_dicts(tmp_path, plane):
+    """Structures no edit has are refused with the reason, never a crash (issue: a list nested
+    100,000 deep killed the interpreter)."""
+    deep = [0]
+    for _ in range(100_000):
+        deep = [deep]
+    with pytest.raises(freeform.Error, match=r"^edit: nested too deeply \(more than 1000 levels\) at \"support\.vertices\[0\]"):
+        freeform.Edit.from_dict({"support": {"vertices": deep}}, plane)
+    loop = [1]
+    loop.append(loop)
+    with pytest.raises(freeform.Error, match=r"nested too deeply"):
+        freeform.Edit.from_dict({"support": {"vertices": loop}}, plane)
+    with pytest.raises(freeform.Error, match=r"^edit: key '\\ud800' is not valid Unicode \(a lone surrogate\?\) at \"support\"$"):
+        freeform.Edit.from_dict({"support": {"\ud800": 1}}, plane)
+    with pytest.raises(freeform.Error, match=r"^edit: string '\\udfff' is not valid Unicode"):
+        freeform.Edit.from_dict({"deformation": "\udfff", "support": {"vertices": [1]}}, plane)
+    (tmp_path / "plane.sel").write_text("1\n" * plane.n_vertices)
+    with pytest.raises(freeform.Error, match=r'"support\.sel" contains a NUL byte'):
+        freeform.Edit.from_dict({"support": {"sel": str(tmp_path / "plane.sel") + "\0.junk", "labels": [1]}}, plane)
+
+
+def test_writers_never_write_what_readers_refuse(tmp_path):
+    bad = np.array(TRIANGLE, float)
+    bad[1, 2] = np.nan
+    with pytest.raises(freeform.Error, match=r"a\.off: cannot write vertex 1: its coordinate nan is not finite$"):
+        freeform.write_mesh(tmp_path / "a.off", bad, [[0, 1, 2]])
+    bad[1, 2] = 1e39
+    with pytest.raises(freeform.Error, match=r"beyond the single precision of STL"):
+        freeform.write_mesh(tmp_path / "a.stl", bad, [[0, 1, 2]])
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_nonlinear_refuses_scales_it_would_blow_up():
+    """A one-vertex handle scaled 1e6 about itself moves nothing in linear BCM; the nonlinear
+    model spreads the scale to its neighbours (it moved one by 1,944 units, exit 0): refused."""
+    mesh = freeform.make_icosphere(2, 1.0)
+    faces = mesh.faces
+    nb = int(next(x for x in faces[np.any(faces == 0, axis=1)].ravel() if x != 0))
+    c = mesh.vertices[nb]
+
+    def scaled(s):
+        m = np.eye(4)
+        m[:3, :3] *= s
+        m[:3, 3] = c - s * c
+        return m
+
+    edit = {"support": {"vertices": [0, nb]}, "handles": [{"region": {"vertices": [nb]}}],
+            "deformation": "nonlinear", "allow_unanchored": True}
+    solver = freeform.EditSolver(mesh, freeform.Edit.from_dict(edit, mesh))
+    for s, text in [(1e6, r"1e\+06"), (1e-4, r"0\.0001"), (1e200, r"1e\+200")]:
+        with pytest.raises(freeform.Error, match=r"^evaluate: transform 0 scales by " + text + r"; the nonlinear model"):
+            solver.evaluate([scaled(s)])
+    assert np.isfinite(solver.evaluate([scaled(500.0)])).all()
+    linear = freeform.EditSolver(mesh, freeform.Edit.from_dict(dict(edit, deformation="linear"), mesh))
+    np.testing.assert_allclose(linear.evaluate([scaled(1e6)]), mesh.vertices, atol=1e-9)
+
+
+def test_evaluate_never_returns_non_finite_positions(plane):
+    """Finite transforms whose products overflow: evaluate raises like deform, and problems()
+    names the first bad vertex of the frame."""
+    for model in ("linear", "nonlinear"):
+        d = plane_edit_dict()
+        d["deformation"] = model
+        solver = freeform.EditSolver(plane, freeform.Edit.from_dict(d, plane))
+        huge = np.diag([1e200, 1e200, 1e200, 1.0])
+        for call in (lambda: solver.evaluate([huge]), lambda: solver.evaluate_into(plane.vertices.copy(), [huge])):
+            with pytest.raises(freeform.Error, match=r"non-finite positions|scales by 1e\+200"):
+                call()
+        if model == "linear":
+            assert solver.problems()["non_finite"] > 0 and solver.problems()["first_non_finite"] is not None

@@ -61,6 +61,11 @@ Json parse_json_text(std::string_view text, const std::string& name) {
     }
     return true;
   };
+  if (const std::size_t nul = text.find('\0'); nul != std::string_view::npos) {
+    // nlohmann's parser stops at a NUL and would accept whatever garbage follows it.
+    const auto [line, col] = line_column(text, nul);
+    throw IoError(name, line, "NUL byte at column " + std::to_string(col) + " (not JSON text)");
+  }
   Json j;
   try {
     j = Json::parse(text, check_duplicates);
@@ -134,7 +139,10 @@ bool JsonReader::boolean(const Json& j, const std::string& path) const {
 
 std::string JsonReader::string(const Json& j, const std::string& path) const {
   if (!j.is_string()) fail(quoted(path) + " must be a string, got " + type_of(j));
-  return j.get<std::string>();
+  const std::string& s = j.get_ref<const std::string&>();
+  // A file name cut at a NUL would name another file ("a.sel\u0000.junk" reads a.sel).
+  if (s.find('\0') != std::string::npos) fail(quoted(path) + " contains a NUL byte");
+  return s;
 }
 
 Eigen::Vector3d JsonReader::vec3(const Json& j, const std::string& path) const {

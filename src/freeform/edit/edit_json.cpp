@@ -31,8 +31,10 @@ Eigen::Affine3d checked_matrix(const Eigen::Matrix4d& m, const std::string& what
   try {
     return affine_from_matrix(m);
   } catch (const InvalidInput&) {  // the only check left: an invertible linear part
-    throw InvalidInput(what + " is singular (determinant " + num(m.topLeftCorner<3, 3>().determinant()) +
-                       "): it would flatten the handle");
+    const double det = m.topLeftCorner<3, 3>().determinant();
+    if (!std::isfinite(det))  // entries near 1e300: their products overflow
+      throw InvalidInput(what + " is too large for double precision (its determinant overflows); scale by less than 1e100");
+    throw InvalidInput(what + " is singular (determinant " + num(det) + "): it would flatten the handle");
   }
 }
 
@@ -178,7 +180,7 @@ class Parser : JsonReader {
       return std::string(kind) == "sphere" ? select_sphere(mesh_, c, r, who) : select_geodesic(mesh_, c, r, who);
     }
     const std::string p = key_path(path, "sel");
-    if (!j["sel"].is_string()) fail(quoted(p) + " must be a file name (string), got " + type_of(j["sel"]));
+    const fs::path file = fs::path(string(j["sel"], p));
     const Json& wanted_j = required(j, path, "labels");
     const std::string lp = key_path(path, "labels");
     if (!wanted_j.is_array() || wanted_j.empty()) fail(quoted(lp) + " must be a non-empty array of labels (0, 1, 2)");
@@ -188,7 +190,6 @@ class Parser : JsonReader {
       if (l < 0 || l > 2) fail(quoted(index_path(lp, i)) + " must be 0 (fixed), 1 (free) or 2 (handle), got " + std::to_string(l));
       wanted.push_back(static_cast<int>(l));
     }
-    const fs::path file = fs::path(j["sel"].get<std::string>());
     const std::string full = (file.is_absolute() ? file : base_ / file).string();
     auto it = sel_cache_.find(full);
     if (it == sel_cache_.end()) it = sel_cache_.emplace(full, read_sel_file(full, mesh_.n_vertices())).first;

@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 
 #include <cctype>
+#include <cmath>
+#include <limits>
 #include <filesystem>
 
 namespace freeform {
@@ -100,6 +102,14 @@ void write_mesh(const std::string& path, const TriangleSoup& soup, const WriteOp
 
 std::string mesh_bytes(const std::string& path, const TriangleSoup& soup, const WriteOptions& options) {
   const MeshFormat format = resolve(options.format, path);
+  // Never write what the readers refuse: a non-finite coordinate, or one beyond STL's floats.
+  const double limit = format == MeshFormat::Stl ? double(std::numeric_limits<float>::max())
+                                                 : std::numeric_limits<double>::max();
+  for (std::size_t v = 0; v < soup.positions.size(); ++v)
+    for (const double c : soup.positions[v])
+      if (!(std::abs(c) <= limit))
+        throw InvalidInput(path + ": cannot write vertex " + std::to_string(v) + ": its coordinate " + fmt::format("{}", c) +
+                           (std::isfinite(c) ? " is beyond the single precision of STL" : " is not finite"));
   std::string data;
   switch (format) {
     case MeshFormat::Obj:

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -30,6 +31,14 @@ constexpr double kWeightFloor = 1e-3;
 // which then cannot twist.
 constexpr double kSmoothingPerSqrtFree = 0.25;
 constexpr int kMinSmoothingRings = 2, kMaxSmoothingRings = 64;
+// Largest uniform scale (and smallest, its inverse) of a handle the model spreads (start()).
+constexpr double kMaxHandleScale = 1000.0;
+
+std::string fmt_scale(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", s);
+  return buf;
+}
 
 Eigen::Map<const Vec3> row(const double* p, Eigen::Index i) { return Eigen::Map<const Vec3>(p + 3 * i); }
 
@@ -43,14 +52,14 @@ void parallel_rows(int n, const F& f) {
 }
 
 // The rotation and uniform scale of an affine map's linear part: polar decomposition, scale the
-// cube root of |det| (1 where the map is singular).
+// cube root of |det| (0 where the map is singular).
 void rotation_and_scale(const Eigen::Matrix3d& l, Eigen::Quaterniond& q, double& scale) {
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(l, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d u = svd.matrixU();
   if ((u * svd.matrixV().transpose()).determinant() < 0) u.col(2) *= -1.0;
   q = Eigen::Quaterniond(u * svd.matrixV().transpose()).normalized();
-  const double det = std::abs(l.determinant());
-  scale = det > 1e-300 && std::isfinite(det) ? std::cbrt(det) : 1.0;
+  const Eigen::Vector3d sv = svd.singularValues();  // cube roots first: no overflow near 1e300
+  scale = std::cbrt(sv(0)) * std::cbrt(sv(1)) * std::cbrt(sv(2));
 }
 
 }  // namespace
@@ -180,6 +189,13 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
     const Eigen::Affine3d& t = transforms[um];
     if (!t.matrix().allFinite()) throw InvalidInput("evaluate: transform " + std::to_string(m) + " is not finite");
     rotation_and_scale(t.linear(), handle_q[um], handle_s[um]);
+    // The scale spreads through the support with BCM's weights: a handle of one vertex scaled
+    // 1e6 about itself moves nothing in linear BCM but would blow its neighbours up by 1e3-1e6.
+    if (!(handle_s[um] >= 1.0 / kMaxHandleScale && handle_s[um] <= kMaxHandleScale))
+      throw InvalidInput("evaluate: transform " + std::to_string(m) + " scales by " + fmt_scale(handle_s[um]) +
+                         "; the nonlinear model spreads a handle's scale through the support and takes scales "
+                         "from 1/" + std::to_string(int(kMaxHandleScale)) + " to " + std::to_string(int(kMaxHandleScale)) +
+                         " (the linear model takes any)");
     omega[um] = rotation_vector(handle_q[um]);
   }
   const int p = n_free_, c = static_cast<int>(d.owner.size());
