@@ -22,8 +22,11 @@ namespace {
 // Forwards Progress reports to a Python callable (stage, fraction) with the GIL held; an
 // exception from it (or a pending Ctrl+C) cancels the precomputation and is re-raised after it.
 struct ProgressBridge {
-  explicit ProgressBridge(py::object f) : callback(std::move(f)) {}
+  explicit ProgressBridge(py::object f, double interval_ms = 0.0)
+      : callback(std::move(f)), min_interval_ms(interval_ms) {}
   py::object callback;
+  double min_interval_ms;  // checks closer than this are skipped (each takes the GIL)
+  std::chrono::steady_clock::time_point last = std::chrono::steady_clock::now();
   std::atomic<bool> cancel{false};
   std::unique_ptr<py::error_already_set> error;
   std::exception_ptr cpp_error;
@@ -32,6 +35,9 @@ struct ProgressBridge {
     Progress p;
     p.cancel = &cancel;
     p.report = [this](std::string_view stage, double fraction) {
+      const auto now = std::chrono::steady_clock::now();
+      if (std::chrono::duration<double, std::milli>(now - last).count() < min_interval_ms) return;
+      last = now;
       py::gil_scoped_acquire gil;
       if (error || cpp_error) return;
       try {
@@ -53,6 +59,23 @@ struct ProgressBridge {
   }
 };
 
+// Runs f(progress) with the GIL released; the progress checks Python's signals every few
+// milliseconds, so Ctrl-C stops a long nonlinear solve or settle within one iteration
+// (KeyboardInterrupt, positions as before).
+template <class F>
+void interruptible(F&& f) {
+  ProgressBridge bridge(py::none(), 10.0);
+  {
+    py::gil_scoped_release release;
+    try {
+      f(bridge.progress());
+    } catch (...) {
+      if (!bridge.error && !bridge.cpp_error) throw;
+    }
+  }
+  bridge.rethrow();
+}
+
 class PySolver {
  public:
   PySolver(std::shared_ptr<Mesh> mesh, const PyEdit& edit, py::object progress) : mesh_(std::move(mesh)) {
@@ -67,14 +90,15 @@ class PySolver {
       py::gil_scoped_release release;
       try {
         solver_ = std::make_unique<EditSolver>(*mesh_, edit.edit, bridge.progress());
-        own_ = solver_->transforms(edit.edit);
-        positions_ = mesh_->positions();
-        solver_->evaluate(own_, positions_);  // a first frame: stats and problems are always defined
       } catch (...) {
         if (!bridge.error && !bridge.cpp_error) throw;
       }
     }
     bridge.rethrow();
+    own_ = solver_->transforms(edit.edit);
+    positions_ = mesh_->positions();
+    // A first frame: stats and problems are always defined.
+    interruptible([&](const Progress& p) { solver_->evaluate(own_, positions_, p); });
   }
 
   int n_movable() const { return solver_->n_movable(); }
@@ -88,14 +112,13 @@ class PySolver {
     const std::span<const Eigen::Affine3d> t = read(transforms, buf);
     py::array_t<double> out({static_cast<py::ssize_t>(positions_.size()), py::ssize_t{3}});
     double* dst = out.mutable_data();
-    {
-      py::gil_scoped_release release;
+    interruptible([&](const Progress& progress) {
       const std::lock_guard lock(mutex_);
       drag_.reset();
-      solver_->evaluate(t, positions_);
+      solver_->evaluate(t, positions_, progress);
       require_finite(solver_->problems(positions_), t);  // as deform: never a silent NaN
       std::memcpy(dst, positions_.raw().data(), positions_.size() * sizeof(Vec3));
-    }
+    });
     return out;
   }
 
@@ -104,12 +127,13 @@ class PySolver {
     double* dst = output(out);
     Buffer buf;
     const std::span<const Eigen::Affine3d> t = read(transforms, buf);
-    py::gil_scoped_release release;
-    const std::lock_guard lock(mutex_);
-    drag_.reset();
-    solver_->evaluate(t, positions_);
-    require_finite(solver_->problems(positions_), t);
-    copy_touched(dst);
+    interruptible([&](const Progress& progress) {
+      const std::lock_guard lock(mutex_);
+      drag_.reset();
+      solver_->evaluate(t, positions_, progress);
+      require_finite(solver_->problems(positions_), t);
+      copy_touched(dst);
+    });
   }
 
   // A drag: the nonlinear model iterates from the previous frame for at most budget_ms
@@ -144,14 +168,13 @@ class PySolver {
     Buffer buf;
     const std::span<const Eigen::Affine3d> t = read(transforms, buf);
     DragFrame f;
-    {
-      py::gil_scoped_release release;
+    interruptible([&](const Progress& progress) {
       const std::lock_guard lock(mutex_);
       if (!drag_) drag_ = std::make_unique<DragSession>(*solver_);
-      f = settle ? drag_->finish(t, positions_) : drag_->frame(t, positions_);
+      f = settle ? drag_->finish(t, positions_, progress) : drag_->frame(t, positions_);
       drag_state_ = f.state;
       copy_touched(dst);
-    }
+    });
     py::dict d;
     d["written"] = f.written;
     d["predicted"] = f.predicted;

@@ -394,4 +394,7 @@ TEST(EditFile, OverflowingTransformsAreNamedAsSuch) {
   } catch (const InvalidInput& ex) {
     EXPECT_THAT(ex.what(), HasSubstr("too large for double precision"));
   }
+  // A matrix scaled by 1e300 is invertible; only its determinant overflows: not "singular".
+  EXPECT_THAT(error(with_handle("{" + kRegion + R"(, "transform": {"matrix": [[1e300,0,0,0],[0,1e300,0,0],[0,0,1e300,0],[0,0,0,1]]}})")),
+              HasSubstr(R"("handles[0].transform.matrix" is too large for double precision (its determinant overflows))"));
 }

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <numbers>
 
@@ -134,6 +135,38 @@ TEST(Nonlinear, IterationCapIsReported) {
   EXPECT_EQ(solver.nonlinear_state()->iterations, 2);
   EXPECT_FALSE(solver.nonlinear_state()->converged);
   EXPECT_EQ(solver.problems(p).non_finite, 0);
+}
+
+// A caller (Python's Ctrl-C) can stop a solve between two iterations; the positions stay as
+// they were and the next evaluate starts afresh (the same result as without the cancel).
+TEST(Nonlinear, EvaluateCanBeCancelledBetweenIterations) {
+  const Mesh mesh = Mesh::from_soup(make_capsule(0.5, 4.0, 16, 24));
+  for (const bool multires : {false, true}) {
+    Edit e = two_ended(mesh, 2, true);
+    e.multiresolution = multires;
+    const EditSolver solver(mesh, e);
+    const Vec3 pivot(0, 0, 3.5);
+    const std::vector<Eigen::Affine3d> bend{Eigen::Translation3d(pivot) * Eigen::AngleAxisd(1.5, Vec3::UnitY()) *
+                                            Eigen::Translation3d(-pivot)};
+    std::atomic<bool> cancel{false};
+    int steps = 0;
+    Progress progress;
+    progress.cancel = &cancel;
+    progress.report = [&](std::string_view stage, double fraction) {
+      EXPECT_EQ(stage, "nonlinear");
+      EXPECT_GT(fraction, 0.0);
+      if (++steps == 3) cancel = true;
+    };
+    VertexData<Vec3> p = mesh.positions();
+    EXPECT_THROW(solver.evaluate(bend, p, progress), Cancelled);
+    EXPECT_EQ(steps, 3);
+    EXPECT_EQ(max_distance(p, mesh.positions()), 0.0) << "multires " << multires;
+    VertexData<Vec3> full = mesh.positions(), again = mesh.positions();
+    solver.evaluate(bend, full);
+    solver.evaluate(bend, again);
+    EXPECT_EQ(max_distance(full, again), 0.0);
+    EXPECT_GT(solver.nonlinear_state()->iterations, 3);
+  }
 }
 
 }  // namespace

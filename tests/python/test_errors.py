@@ -197,3 +197,52 @@ def test_evaluate_never_returns_non_finite_positions(plane):
                 call()
         if model == "linear":
             assert solver.problems()["non_finite"] > 0 and solver.problems()["first_non_finite"] is not None
+
+
+def _interrupt_after(seconds):
+    """Sends this process SIGINT (Ctrl-C) after `seconds`, from another thread."""
+    import os
+    import signal
+    import threading
+    timer = threading.Timer(seconds, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    return timer
+
+
+def test_ctrl_c_stops_a_long_nonlinear_solve():
+    """A legal edit that would iterate for minutes (no tolerance reachable): Ctrl-C stops the
+    constructor's first frame, evaluate, evaluate_into and settle within a fraction of a second
+    (it used to run on: the solve never looked at Python's signals)."""
+    import time
+    # A tube whose end is scaled 1.4 and turned 150 degrees: at k = 3 the iteration keeps
+    # oscillating (step 0.06 after 1,000 iterations, 0.4 ms each).
+    mesh = freeform.make_cylinder(30, 24, 0.2, 1.0)
+    top = mesh.vertices[np.argmax(mesh.vertices[:, 2])].tolist()
+    diag = float(np.linalg.norm(np.ptp(mesh.vertices, axis=0)))
+    d = {"order": 3, "support": {"sphere": {"center": top, "radius": 0.6 * diag}},
+         "handles": [{"region": {"sphere": {"center": top, "radius": 0.15 * diag}}}],
+         "deformation": "nonlinear", "allow_unanchored": True,
+         "nonlinear": {"max_iterations": 100000, "tolerance": 1e-300}}
+    solver = freeform.EditSolver(mesh, freeform.Edit.from_dict(d, mesh))  # identity: at rest at once
+    turn = {"scale": [1.4, 1.4, 1.4], "rotate": {"axis": [0, 1, 0], "degrees": 150}}
+    d["handles"][0]["transform"] = turn
+    edit = freeform.Edit.from_dict(d, mesh)
+    a = np.radians(150)
+    turned = np.eye(4)
+    turned[:3, :3] = 1.4 * np.array([[np.cos(a), 0, np.sin(a)], [0, 1, 0], [-np.sin(a), 0, np.cos(a)]])
+    handle = mesh.vertices[np.linalg.norm(mesh.vertices - top, axis=1) <= 0.15 * diag]
+    pivot = handle.mean(axis=0)  # the manipulator's default pivot: the handle's centroid
+    turned[:3, 3] = pivot - turned[:3, :3] @ pivot
+    out = mesh.vertices.copy()
+    calls = [lambda: freeform.EditSolver(mesh, edit),
+             lambda: solver.evaluate([turned]),
+             lambda: solver.evaluate_into(out, [turned]),
+             lambda: solver.settle(out, [turned])]
+    for call in calls:
+        timer = _interrupt_after(0.3)
+        start = time.monotonic()
+        with pytest.raises(KeyboardInterrupt):
+            call()
+        timer.join()
+        assert time.monotonic() - start < 3.0
+    assert np.array_equal(out, mesh.vertices)  # interrupted frames wrote nothing

@@ -18,7 +18,8 @@ class Cancelled : public Error {
 
 struct Progress {
   // Called from the computing thread: stage name ("assembly", "factorization", "basis",
-  // "refinement", "detail") and the overall fraction done in [0, 1].
+  // "refinement", "detail"; "nonlinear": iterations / cap of one solve of that model) and
+  // the fraction done in [0, 1].
   std::function<void(std::string_view stage, double fraction)> report;
   const std::atomic<bool>* cancel = nullptr;  // set to true to stop at the next checkpoint
 

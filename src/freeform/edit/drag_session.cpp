@@ -2,6 +2,7 @@
 
 #include "freeform/common/error.h"
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
 #include <limits>
@@ -100,11 +101,19 @@ DragFrame DragSession::show(std::span<const Eigen::Affine3d> transforms, VertexD
   return f;
 }
 
-DragFrame DragSession::finish(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) {
+DragFrame DragSession::finish(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
+                              const Progress& progress) {
   DragFrame f = frame(transforms, positions);
   if (!model_) return f;
   std::unique_lock lock(mutex_);
-  settled_.wait(lock, [&] { return error_ || (front_.settled && same_transforms(transforms, front_.transforms)); });
+  const auto done = [&] { return error_ || (front_.settled && same_transforms(transforms, front_.transforms)); };
+  const int cap = std::max(model_->options().max_iterations, 1);
+  while (!settled_.wait_for(lock, std::chrono::milliseconds(20), done)) {
+    const double fraction = std::min(1.0, static_cast<double>(front_.state.iterations) / cap);
+    lock.unlock();
+    progress.step("nonlinear", fraction);
+    lock.lock();
+  }
   if (error_) throw SolverError("the nonlinear model failed: " + *error_);
   if (front_.version == shown_version_) return {false, false, true, front_.state};
   return show(transforms, positions, lock);

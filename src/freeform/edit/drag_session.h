@@ -8,6 +8,7 @@
 // evaluates on the calling thread, as EditSolver::evaluate.
 #pragma once
 
+#include "freeform/common/progress.h"
 #include "freeform/edit/edit_solver.h"
 
 #include <atomic>
@@ -45,8 +46,11 @@ class DragSession {
   // on a wrong count, non-finite transforms or a wrong size.
   DragFrame frame(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions);
   // Blocks until the worker settled for the last frame's transforms, then writes like frame()
-  // (a final result; tests). The linear model returns at once.
-  DragFrame finish(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions);
+  // (a final result; tests). The linear model returns at once. While waiting, `progress` is
+  // checked every few milliseconds (Python's Ctrl-C); Cancelled leaves positions alone and
+  // the worker iterating.
+  DragFrame finish(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
+                   const Progress& progress = {});
   // The worker's error, if an iteration threw (the session then shows its last iterate).
   std::optional<std::string> error() const;
 

@@ -203,10 +203,11 @@ NonlinearState EditSolver::refine(std::span<const Eigen::Affine3d> transforms, d
   return state;
 }
 
-void EditSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
+void EditSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
+                          const Progress& progress) const {
   if (nonlinear_) {
     nonlinear_->start(transforms, false);
-    nonlinear_->iterate(nonlinear_->options().max_iterations);
+    nonlinear_->run(progress);
     warm_ = true;
     timings_.evaluate_ms = nonlinear_->state().ms;
     write_nonlinear(transforms, positions);
@@ -214,7 +215,7 @@ void EditSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexDat
   }
   if (multires_) {
     if (multires_->nonlinear()) warm_ = true;
-    multires_->evaluate(transforms, positions);
+    multires_->evaluate(transforms, positions, progress);
     timings_ = {multires_->last_timings().base_ms, multires_->last_timings().detail_ms};
     return;
   }

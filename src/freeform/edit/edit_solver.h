@@ -68,8 +68,10 @@ class EditSolver {
   // map per movable handle, applied to the rest positions. No allocation, O(support).
   // Uses workspace: call from one thread at a time. Throws InvalidInput on a wrong count,
   // a non-finite transform or a wrong size.
-  // The nonlinear model solves cold to convergence (or its iteration cap).
-  void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
+  // The nonlinear model solves cold to convergence (or its iteration cap), stepping `progress`
+  // after each iteration (Cancelled: positions untouched).
+  void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
+                const Progress& progress = {}) const;
   const EditTimings& last_timings() const { return timings_; }
   // The nonlinear model's iterations of the last frame (null for the linear model).
   const NonlinearState* nonlinear_state() const;

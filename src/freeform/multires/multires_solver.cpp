@@ -344,12 +344,12 @@ std::vector<bool> MultiresSolver::fallback_mask() const {
 }
 
 void MultiresSolver::update_base(std::span<const Eigen::Affine3d> transforms, Base source,
-                                 const Eigen::Ref<const RowMatrixX3d>* given) const {
+                                 const Eigen::Ref<const RowMatrixX3d>* given, const Progress& progress) const {
   auto top = base_.topRows(n_free_);
   if (source == Base::Linear || !nonlinear_) {
     bcm_.evaluate(transforms, top);  // checks the count and finiteness of the transforms
   } else if (source == Base::NonlinearSolve) {
-    nonlinear_->solve(transforms, top);  // checks them too
+    nonlinear_->solve(transforms, top, progress);  // checks them too
   } else {
     if (static_cast<int>(transforms.size()) != bcm_.n_movable())
       throw InvalidInput("reconstruct: got " + std::to_string(transforms.size()) + " transforms for " +
@@ -431,12 +431,13 @@ void MultiresSolver::update_normals() const {
   return h != c.h ? 1 : 0;
 }
 
-void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
+void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
+                              const Progress& progress) const {
   if (positions.size() != static_cast<std::size_t>(n_vertices_))
     throw InvalidInput("multiresolution evaluate: positions have " + std::to_string(positions.size()) +
                        " entries, the mesh has " + std::to_string(n_vertices_) + " vertices");
   const auto t0 = Clock::now();
-  update_base(transforms, nonlinear_ ? Base::NonlinearSolve : Base::Linear);
+  update_base(transforms, nonlinear_ ? Base::NonlinearSolve : Base::Linear, nullptr, progress);
   timings_.base_ms = ms_since(t0);
   add_detail(positions);
 }

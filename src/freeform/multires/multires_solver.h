@@ -106,8 +106,10 @@ class MultiresSolver {
   // No allocation, O(support), parallel (OpenMP static schedule above a size threshold).
   // Uses workspace members: do not call evaluate()/problems() concurrently on one solver.
   // Throws InvalidInput on a wrong transform count, a non-finite transform or a wrong size.
-  // With a nonlinear base: one cold solve of that model (to convergence or its cap).
-  void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
+  // With a nonlinear base: one cold solve of that model (to convergence or its cap), stepping
+  // `progress` after each iteration.
+  void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
+                const Progress& progress = {}) const;
 
   // The nonlinear model of the base (null for the linear base). A drag runs its start/iterate
   // itself (EditSolver, DragSession) and calls reconstruct() to show an iterate with its detail.
@@ -169,7 +171,8 @@ class MultiresSolver {
   mutable int flattened_ = 0;  // vertices whose detail the last evaluate() flattened
 
   enum class Base { Linear, NonlinearSolve, Given };
-  void update_base(std::span<const Eigen::Affine3d> transforms, Base source, const Eigen::Ref<const RowMatrixX3d>* given = nullptr) const;
+  void update_base(std::span<const Eigen::Affine3d> transforms, Base source, const Eigen::Ref<const RowMatrixX3d>* given = nullptr,
+                   const Progress& progress = {}) const;
   void add_detail(VertexData<Vec3>& positions) const;
   // Rebuilds free vertex i with its height lowered by multires::safe_height; 1 if it was lowered.
   int flatten_detail(int i, Vec3* out) const;

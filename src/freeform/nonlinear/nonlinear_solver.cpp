@@ -353,12 +353,22 @@ void NonlinearSolver::fit_rotations() {
   parallel_rows(p, [&](int i) { extract_rotation(d.cov[static_cast<std::size_t>(i)], d.q[static_cast<std::size_t>(i)]); });
 }
 
-void NonlinearSolver::solve(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out) {
+void NonlinearSolver::run(const Progress& progress) {
+  // One iteration per call is the same sequence as iterate(cap): the state carries over.
+  const int cap = options_.max_iterations;
+  while (!state_.converged && state_.iterations < cap) {
+    iterate(1);
+    progress.step("nonlinear", static_cast<double>(state_.iterations) / std::max(cap, 1));
+  }
+}
+
+void NonlinearSolver::solve(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out,
+                            const Progress& progress) {
   if (out.rows() != n_free_)
     throw InvalidInput("evaluate: output has " + std::to_string(out.rows()) + " rows, expected " +
                        std::to_string(n_free_));
   start(transforms, false);
-  iterate(options_.max_iterations);
+  run(progress);
   out = free_positions();
 }
 

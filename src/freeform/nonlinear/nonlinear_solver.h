@@ -17,6 +17,7 @@
 #pragma once
 
 #include "freeform/bcm/bcm_solver.h"
+#include "freeform/common/progress.h"
 #include "freeform/mesh/mesh.h"
 #include "freeform/regions/regions.h"
 
@@ -96,7 +97,11 @@ class NonlinearSolver {
   Eigen::Ref<const RowMatrixX3d> free_positions() const;
 
   // One cold solve to convergence (or options().max_iterations); writes the free rows to `out`.
-  void solve(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out);
+  // `progress` is stepped after every iteration ("nonlinear", iterations / cap): a caller can
+  // cancel a long solve there (Python's Ctrl-C); Cancelled leaves `out` untouched.
+  void solve(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out, const Progress& progress = {});
+  // Iterations from the last start() to convergence or the cap, stepping `progress` after each.
+  void run(const Progress& progress = {});
 
  private:
   struct Data;
