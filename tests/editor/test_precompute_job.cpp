@@ -100,8 +100,14 @@ TEST(PrecomputeJob, FinishesLikeDeform) {
 
 TEST(PrecomputeJob, CancelRightAfterStartLeavesNothing) {
   PrecomputeJob job;
-  job.start(request(mesh(), 1));
+  // Held at its first report: on a loaded machine the worker could otherwise finish this small
+  // precompute before cancel() runs (seen once in a parallel ctest run).
+  Gate gate;
+  PrecomputeRequest r = request(mesh(), 1);
+  r.on_progress = gate.hook("assembly");
+  job.start(std::move(r));
   job.cancel();
+  gate.release();
   job.wait();
   EXPECT_EQ(job.status().state, JobState::Cancelled);
   EXPECT_EQ(job.status().error, "");
