@@ -4,11 +4,26 @@
 
 #include "freeform/common/error.h"
 #include "freeform/common/huge_pages.h"
+#include "freeform/common/memory_limit.h"
 
 #include <fmt/core.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
+
+namespace {
+
+// Exits at once: a normal exit runs OpenBLAS's shutdown, which waits forever for a worker
+// thread stuck retrying an allocation the memory limit refused. Nothing is left to write (a
+// failed command writes nothing; temporaries are removed where the failure happened).
+[[noreturn]] void out_of_memory(const char* message) {
+  std::fprintf(stderr, "freeform: error: %s\n", message);
+  std::fflush(nullptr);
+  std::_Exit(freeform::cli::kBadInput);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   freeform::restart_with_huge_page_malloc(argv);
@@ -32,12 +47,13 @@ int main(int argc, char** argv) {
   } catch (const freeform::InternalError& e) {
     fmt::print(stderr, "freeform: {}\n(this is a bug in freeform; please report it)\n", e.what());
     return freeform::cli::kInternal;
+  } catch (const freeform::OutOfMemory& e) {
+    out_of_memory(e.what());
   } catch (const freeform::Error& e) {
     fmt::print(stderr, "freeform: error: {}\n", e.what());
     return freeform::cli::kBadInput;
   } catch (const std::bad_alloc&) {
-    fmt::print(stderr, "freeform: error: out of memory\n");
-    return freeform::cli::kBadInput;
+    out_of_memory(freeform::out_of_memory_message().c_str());
   }
   return freeform::cli::kOk;
 }

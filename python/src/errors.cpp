@@ -37,6 +37,8 @@ void bind_errors(py::module_& m) {
       PyErr_SetString(topology_error, e.what());
     } catch (const SolverError& e) {
       PyErr_SetString(solver_error, e.what());
+    } catch (const OutOfMemory& e) {
+      PyErr_SetString(PyExc_MemoryError, e.what());  // an address-space limit, not the input
     } catch (const InternalError& e) {
       PyErr_SetString(PyExc_RuntimeError, e.what());  // a bug in the library
     } catch (const Error& e) {

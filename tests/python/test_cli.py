@@ -76,3 +76,35 @@ def test_nonlinear_model_carries_overhanging_detail(cli, tmp_path, demo):
     d["multiresolution"] = True
     assert freeform.EditSolver(mesh, freeform.Edit.from_dict(d, mesh)).stats["multiresolution"]["detail"] == (
         "normal_displacement")
+
+
+def test_memory_caps_fail_cleanly(cli, tmp_path):
+    """A k = 3 edit of a 150k-vertex plane under `ulimit -v`: a message and exit 1 within
+    seconds at every cap, never a hang or a crash, and the old output intact. (OpenBLAS retried
+    its 128 MB buffers forever at 200-400 MB, its shutdown hung after the message at 120 MB,
+    and cholmod_solve crashed at 300 MB with one thread.)"""
+    import os
+    import resource
+    if os.environ.get("FREEFORM_PYTHON_SANITIZED") == "1":
+        pytest.skip("the sanitizers reserve terabytes of address space: no address-space limit fits")
+    plane = tmp_path / "plane.off"
+    freeform.write_mesh(plane, freeform.make_plane(386, 386))
+    edit = tmp_path / "edit.json"
+    edit.write_text(json.dumps({"order": 3, "support": {"sphere": {"center": [0.5, 0.5, 0], "radius": 0.45}},
+                                "handles": [{"region": {"sphere": {"center": [0.5, 0.5, 0], "radius": 0.05}},
+                                             "transform": {"translate": [0, 0, 0.1]}}]}))
+    out = tmp_path / "out.off"
+    out.write_text("old output\n")
+    for megabytes in (120, 300, 450, 700):
+        for threads in ("1", "2"):
+            limit = megabytes << 20
+            result = subprocess.run(
+                [cli, "deform", str(plane), "--edit", str(edit), "-o", str(out)], capture_output=True, text=True,
+                timeout=60, env=dict(os.environ, OPENBLAS_NUM_THREADS=threads),
+                preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_AS, (limit, limit)))
+            case = f"{megabytes} MB, {threads} threads: {result.stderr}"
+            assert result.returncode == 1, case
+            assert result.stderr.startswith("freeform: error: out of memory"), case
+            assert "ulimit -v" in result.stderr, case
+            assert out.read_text() == "old output\n", case
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["edit.json", "out.off", "plane.off"]

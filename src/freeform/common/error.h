@@ -45,6 +45,13 @@ class SolverError : public Error {
   using Error::Error;
 };
 
+// The process may not allocate what a step needs (an address-space limit, or none left); the
+// message names the step and the sizes.
+class OutOfMemory : public Error {
+ public:
+  using Error::Error;
+};
+
 // A broken internal invariant: a bug in this library, never the user's fault.
 class InternalError : public Error {
  public:

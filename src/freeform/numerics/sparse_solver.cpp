@@ -3,6 +3,7 @@
 #include "freeform/numerics/sparse_solver.h"
 
 #include "freeform/common/error.h"
+#include "freeform/common/memory_limit.h"
 #include "freeform/common/huge_pages.h"
 #include "freeform/common/serial_openmp.h"
 
@@ -14,6 +15,7 @@
 #endif
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -122,6 +124,18 @@ std::uint64_t pattern_hash(const SpMat& a) {
 }
 
 #if FREEFORM_HAVE_SUITESPARSE
+// Set once a supernodal factorization ran: OpenBLAS keeps its work buffers, already counted in
+// the process's size from then on.
+std::atomic<bool> blas_buffers_reserved{false};
+
+// Address space a supernodal factorization takes beyond what the process holds: the factor
+// (values and supernode structure, about 12 bytes per entry), CHOLMOD's copy of the matrix and
+// its update workspace (a third more), and OpenBLAS's buffers on the first factorization.
+std::size_t factorization_bytes(double factor_entries, const SpMat& lower) {
+  const double bytes = 16.0 * factor_entries + 24.0 * static_cast<double>(lower.nonZeros());
+  return static_cast<std::size_t>(bytes) + (blas_buffers_reserved ? 0 : blas_buffer_bytes());
+}
+
 // A CHOLMOD supernodal solver analyzed for `lower` (a lower triangle; values unused); null on
 // failure, with CHOLMOD's status in *status.
 CholmodPtr analyzed_cholmod(const SpMat& lower, int* status = nullptr) {
@@ -204,14 +218,18 @@ struct SparseSolver::Impl {
         } else {
           int status = CHOLMOD_OK;
           s = analyzed_cholmod(a, &status);
-          if (!s)
-            return "the symbolic analysis failed (CHOLMOD status " + std::to_string(status) +
-                   (status == CHOLMOD_OUT_OF_MEMORY ? ": out of memory)" : ")");
+          if (status == CHOLMOD_OUT_OF_MEMORY)
+            throw OutOfMemory("out of memory while ordering a " + std::to_string(a.rows()) + "-row system");
+          if (!s) return "the symbolic analysis failed (CHOLMOD status " + std::to_string(status) + ")";
         }
+        require_memory(factorization_bytes(s->cholmod().lnz, a), "factorizing a " + std::to_string(a.rows()) + "-row system");
         const SerialOpenMp serial_teams;  // CHOLMOD's 4-thread teams per supernode (serial_openmp.h)
         s->factorize(a);
+        if (s->cholmod().status == CHOLMOD_OUT_OF_MEMORY)
+          throw OutOfMemory("out of memory while factorizing a " + std::to_string(a.rows()) + "-row system");
         if (s->info() != Eigen::Success || s->cholmod().status < CHOLMOD_OK)
           return "the matrix is singular or not positive definite";
+        blas_buffers_reserved = true;
         return {};
       }
       case SolverKind::Umfpack: {
@@ -345,7 +363,11 @@ Eigen::MatrixXd SparseSolver::solve(const Eigen::MatrixXd& b, bool check_residua
         if constexpr (std::is_same_v<S, std::monostate>) {
           ok = false;
         } else if constexpr (std::is_same_v<S, CholmodPtr>) {
+          // cholmod_solve does not survive every failed workspace allocation: refuse up front.
+          require_memory(static_cast<std::size_t>(4 * 8 * b.size()), "solving with a " + std::to_string(b.rows()) + "-row factor");
           x = s->solve(b);
+          if (s->cholmod().status == CHOLMOD_OUT_OF_MEMORY)
+            throw OutOfMemory("out of memory while solving with a " + std::to_string(b.rows()) + "-row factor");
           ok = s->info() == Eigen::Success;
         } else {
           x = s.solve(b);
