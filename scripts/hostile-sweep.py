@@ -49,11 +49,19 @@ def finite_off(path):
     return all(math.isfinite(float(x)) for l in lines[2:2 + nv] for x in l.split()[:3])
 
 
-def run(family, args, work, outputs=(), inputs=(), must_fail=False, expect_finite=True, kill_after=None):
-    """One case: runs the CLI in `work`, checks the rules, records held / broken."""
+def run(family, args, work, outputs=(), inputs=(), must_fail=False, expect_finite=True, kill_after=None,
+        limit_mb=None, env=None):
+    """One case: runs the CLI in `work` (under `ulimit -v limit_mb` if given), checks the rules,
+    records held / broken."""
     before = {p: open(p, "rb").read() for p in inputs if os.path.isfile(p)}
     existing = {p: open(p, "rb").read() for p in outputs if os.path.isfile(p)}
-    proc = subprocess.Popen([CLI] + args, cwd=work, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+
+    def cap():
+        if limit_mb:
+            import resource
+            resource.setrlimit(resource.RLIMIT_AS, (limit_mb << 20, limit_mb << 20))
+    proc = subprocess.Popen([CLI] + args, cwd=work, stdout=subprocess.PIPE, stderr=subprocess.PIPE, preexec_fn=cap,
+                            env=dict(os.environ, **(env or {})))
     if kill_after is not None:
         time.sleep(kill_after)
         proc.send_signal(signal.SIGTERM)
@@ -188,6 +196,51 @@ def main():
     if os.path.exists(ico):
         run("hostile edits", ["deform", ico, "--edit", sphere_edit, "-o", out], work, outputs=[out], inputs=[ico],
             must_fail=True)
+
+    # NUL bytes: a path cut at the NUL names another file; text after a NUL must not be ignored.
+    for text in ('{"support": {"sel": "plane.sel\\u0000.junk", "labels": [1]}}',
+                 json.dumps(base) + "\0garbage", json.dumps(base)[:-1] + "\0}"):
+        ef = write(os.path.join(work, "edit.json"), text)
+        run("NUL bytes", ["deform", plane, "--edit", ef, "-o", out], work, outputs=[out], inputs=[plane, ef],
+            must_fail=True)
+
+    # The nonlinear model's scale field: a one-vertex handle scaled about itself moves nothing
+    # in linear BCM; scales beyond 1/1000..1000 are refused, those within give finite shapes.
+    if os.path.exists(ico):
+        lines = [l for l in open(ico).read().split("\n") if l.strip()]
+        nv = int(lines[1].split()[0])
+        a, b = (int(x) for x in lines[2 + nv].split()[1:3])  # two neighbours: the first face's
+        for s_ in (1e6, 1e-6, 1e300, 999.0, 0.002):
+            for model in ("nonlinear", "linear"):
+                e = {"support": {"vertices": [a, b]}, "allow_unanchored": True, "deformation": model,
+                     "handles": [{"region": {"vertices": [b]}, "transform": {"scale": [s_, s_, s_]}}]}
+                ef = write(os.path.join(work, "edit.json"), json.dumps(e))
+                fail = model == "nonlinear" and not (1e-3 <= s_ <= 1e3)
+                run("nonlinear scale field", ["deform", ico, "--edit", ef, "-o", out], work, outputs=[out],
+                    inputs=[ico, ef], must_fail=fail)
+                if os.path.exists(out):
+                    os.remove(out)
+
+    # Memory caps: a k = 3 edit of a 160k-vertex plane under ulimit -v, OpenBLAS with 1 and 2
+    # threads: a message and exit 1 (or a result), never a hang, a crash or a broken output.
+    big_v, big_f = grid(n=401)
+    big = write(os.path.join(work, "big.off"), off_text(big_v, big_f))
+    big_edit = write(os.path.join(work, "big.json"), json.dumps(
+        {"order": 3, "support": {"sphere": {"center": [0.5, 0.5, 0], "radius": 0.45}},
+         "handles": [{"region": {"sphere": {"center": [0.5, 0.5, 0], "radius": 0.1}}, "transform": {"translate": [0, 0, .2]}}]}))
+    earlier = write(os.path.join(work, "earlier.off"), "earlier")
+    for limit in (100, 150, 200, 300, 400, 600, 800, 1000):
+        for threads in ("1", "2"):
+            run("memory caps", ["deform", big, "--edit", big_edit, "-o", earlier], work, outputs=[earlier],
+                inputs=[big, big_edit], limit_mb=limit, env={"OPENBLAS_NUM_THREADS": threads})
+            write(earlier, "earlier")
+
+    # The Python module's entry points for untrusted data (fuzz/fuzz_python_api.py).
+    fuzz = subprocess.run([sys.executable, os.path.join(ROOT, "fuzz", "fuzz_python_api.py"), "--cases", "5000"],
+                          capture_output=True, text=True, env=dict(os.environ, PYTHONPATH=os.path.join(ROOT, "build/release/python")))
+    results["python api (5000 cases)"] = (int(fuzz.returncode == 0), 1)
+    if fuzz.returncode != 0:
+        failures.append("python api: exit %d: %s" % (fuzz.returncode, (fuzz.stdout + fuzz.stderr)[-300:]))
 
     # Output safety: outputs naming inputs, links, devices, missing and read-only folders, kills.
     ef = write(os.path.join(work, "edit.json"), json.dumps(base))
