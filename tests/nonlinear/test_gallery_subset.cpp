@@ -59,15 +59,17 @@ TEST(GallerySubset, ElephantLimbsAgainstArap) {
       std::printf("%-28s k=%d folds %3d (ARAP %3d) collapsed %3d (ARAP %3d) iterations %d\n", s.name.c_str(), k, q.folds,
                   peer.folds, q.collapsed, peer.collapsed, solver.nonlinear_state()->iterations);
       EXPECT_TRUE(solver.nonlinear_state()->converged) << s.name << " k = " << k;
-      // Measured 2026-11-28: folds at most ARAP's + 3; collapsed faces up to 60 against ARAP's
-      // 19 and 7 against 0 (the goal: ARAP's + 2).
-      EXPECT_LE(q.folds, peer.folds + 4) << s.name << " k = " << k;
+      // Measured 2026-11-28 (the narrower rotation fit): folds at most ARAP's + 5; collapsed
+      // faces up to 48 against ARAP's 19 and 7 against 0 (the goal: ARAP's + 2).
+      EXPECT_LE(q.folds, peer.folds + 6) << s.name << " k = " << k;
       EXPECT_LE(q.collapsed, 4 * peer.collapsed + 12) << s.name << " k = " << k;
     }
   }
-  // Fewer folded edges than ARAP in total (measured 35 and 43 against 46).
-  EXPECT_LE(folds[0], peer_folds);
-  EXPECT_LE(folds[1], peer_folds);
+  // Not more folded edges than ARAP in total, within the 2 (measured 41 and 47 against
+  // 46; with the wider fit before 2026-11-28: 35 and 43, and about 60 % more collapsed faces
+  // over the whole gallery).
+  EXPECT_LE(folds[0], peer_folds + 2);
+  EXPECT_LE(folds[1], peer_folds + 2);
 }
 
 }  // namespace

@@ -331,7 +331,9 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
   if (options.nonlinear) {  // the nonlinear base keeps the smooth rest base
     VertexData<Vec3> rest_base = mesh.positions();
     for (int i = 0; i < n_free_; ++i) rest_base[free[static_cast<std::size_t>(i)]] = base_.row(i).transpose();
-    nonlinear_ = std::make_unique<NonlinearSolver>(mesh, regions, bcm_, rest_base, *options.nonlinear);
+    NonlinearOptions on_base = *options.nonlinear;
+    on_base.smooth_rest = true;
+    nonlinear_ = std::make_unique<NonlinearSolver>(mesh, regions, bcm_, rest_base, on_base);
   }
   stats_.decomposition_ms = ms_since(t0) + shape.ms;
   progress.step("detail", 1.0);

@@ -23,14 +23,17 @@ constexpr int kParallelRows = 2048;
 // Positive part of the cotangent weights, plus this fraction of their mean so that no edge of a
 // needle triangle drops out of the rotation fit entirely.
 constexpr double kWeightFloor = 1e-3;
-// Automatic rotation smoothing: rings grow with the support's width in edges (~sqrt of its
-// vertex count), so the smoothed patch covers a similar part of it at any resolution.
-// Measured (docs/nonlinear.md): 8-10 rings suit the bar and capsule (~1,700 free); the S-bent
-// plane (32k free) folds its first bumps below ~40; the cap bounds the cost per iteration.
-// Below ~1,000 free the width shrinks with the support too: 8 rings cover all of a small limb,
-// which then cannot twist.
-constexpr double kSmoothingPerSqrtFree = 0.25;
-constexpr int kMinSmoothingRings = 2, kMaxSmoothingRings = 64;
+// Automatic rotation smoothing: passes grow with the support's width in edges (~sqrt of its
+// vertex count), so the smoothed patch covers a similar part of it at any resolution (each
+// pass widens the fit's kernel by about a ring's square root). Measured (docs/nonlinear.md):
+// - a smooth multiresolution base: the S-bent plane (32k free) folds its first bumps below
+//   ~40 passes: 0.25 sqrt(free);
+// - a detailed surface (the gallery's limbs, 40-23,000 free): 0.25 sqrt(free) squeezed the
+//   bends (4,040 / 5,439 collapsed faces at k = 2 / 3), 0.15 sqrt(free) from 3 passes on
+//   collapses 37 % fewer with 3 % fewer folds; narrower still folds more and converges worse.
+// The cap bounds the cost per iteration.
+constexpr double kSmoothingPerSqrtFree = 0.15, kBaseSmoothingPerSqrtFree = 0.25;
+constexpr int kMinSmoothingRings = 3, kMinBaseSmoothingRings = 2, kMaxSmoothingRings = 64;
 // Largest uniform scale (and smallest, its inverse) of a handle the model spreads (start()).
 constexpr double kMaxHandleScale = 1000.0;
 
@@ -123,10 +126,12 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
     d.owner[static_cast<std::size_t>(j)] = h >= 0 ? regions.movable_index(h) : -1;
   }
   d.x = d.rest;
+  const double per_sqrt = options.smooth_rest ? kBaseSmoothingPerSqrtFree : kSmoothingPerSqrtFree;
   d.smoothing_rings = options.rotation_smoothing >= 0
                           ? options.rotation_smoothing
-                          : std::clamp(static_cast<int>(std::lround(kSmoothingPerSqrtFree * std::sqrt(double(p)))),
-                                       kMinSmoothingRings, kMaxSmoothingRings);
+                          : std::clamp(static_cast<int>(std::lround(per_sqrt * std::sqrt(double(p)))),
+                                       options.smooth_rest ? kMinBaseSmoothingRings : kMinSmoothingRings,
+                                       kMaxSmoothingRings);
   if (p + c > 0) d.extent = std::max((d.rest.colwise().maxCoeff() - d.rest.colwise().minCoeff()).norm(), 1e-300);
 
   // Guidance weights: a translation t moves free vertex i by (sum of its basis row over the

@@ -38,11 +38,16 @@ struct NonlinearOptions {
   // box diagonal) in the last iteration.
   double tolerance = 1e-4;
   // Rings of neighbours whose edges the rotation fit of a vertex also uses (0: the 1-ring only;
-  // -1: automatic, 0.25 sqrt(free vertices) within [2, 64]). Measured (docs/nonlinear.md): 8
-  // keeps the bar's and capsule's volume within 15 % where 0 loses up to 45 %, and converges
-  // in 3-10x fewer iterations; the S-bent plane (32k free) needs ~40 to keep its bumps unfolded;
-  // on a limb of a few hundred vertices 8 rings cover it all and it cannot twist.
+  // -1: automatic, growing with sqrt(free vertices): 0.15 sqrt(free) within [3, 64] on a
+  // detailed surface, 0.25 sqrt(free) within [2, 64] on a smooth multiresolution base).
+  // Measured (docs/nonlinear.md): 8 keeps the bar's and capsule's volume within 15 % where 0
+  // loses up to 45 %, and converges in 3-10x fewer iterations; the S-bent plane's base (32k
+  // free) needs ~40 to keep its bumps unfolded; on the gallery's limbs a wide fit squeezes the
+  // bends (collapsed faces), a narrow one folds and converges worse.
   int rotation_smoothing = -1;
+  // The rest is a smooth multiresolution base (set by MultiresSolver): the automatic width
+  // above is the wider one.
+  bool smooth_rest = false;
   // Keep the enclosed volume of every closed component with free vertices (times the mean
   // cube of the handles' scale field); open meshes are not affected.
   bool preserve_volume = true;
