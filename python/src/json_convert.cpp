@@ -80,7 +80,8 @@ Json convert(py::handle obj, const std::string& name, const std::string& path, i
   const py::module_ np = py::module_::import("numpy");
   if (py::isinstance<py::array>(obj)) return convert(obj.attr("tolist")(), name, path, depth);
   if (py::isinstance(obj, np.attr("bool_"))) return obj.cast<bool>();
-  if (py::isinstance(obj, np.attr("integer"))) return convert(py::int_(py::reinterpret_borrow<py::object>(obj)), name, path, depth);
+  if (py::isinstance(obj, np.attr("integer")))
+    return convert(py::int_(py::reinterpret_borrow<py::object>(obj)), name, path, depth);
   if (py::isinstance(obj, np.attr("floating"))) return obj.cast<double>();
   throw py::type_error(name + ": cannot convert " + std::string(py::str(obj.get_type())) + " to JSON" + where(path));
 }

@@ -33,7 +33,8 @@ Eigen::Affine3d checked_matrix(const Eigen::Matrix4d& m, const std::string& what
   } catch (const InvalidInput&) {  // the only check left: an invertible linear part
     const double det = m.topLeftCorner<3, 3>().determinant();
     if (!std::isfinite(det))  // entries near 1e300: their products overflow
-      throw InvalidInput(what + " is too large for double precision (its determinant overflows); scale by less than 1e100");
+      throw InvalidInput(what + " is too large for double precision (its determinant overflows); scale by less "
+                                "than 1e100");
     throw InvalidInput(what + " is singular (determinant " + num(det) + "): it would flatten the handle");
   }
 }

@@ -108,7 +108,8 @@ std::string mesh_bytes(const std::string& path, const TriangleSoup& soup, const 
   for (std::size_t v = 0; v < soup.positions.size(); ++v)
     for (const double c : soup.positions[v])
       if (!(std::abs(c) <= limit))
-        throw InvalidInput(path + ": cannot write vertex " + std::to_string(v) + ": its coordinate " + fmt::format("{}", c) +
+        throw InvalidInput(path + ": cannot write vertex " + std::to_string(v) + ": its coordinate " +
+                           fmt::format("{}", c) +
                            (std::isfinite(c) ? " is beyond the single precision of STL" : " is not finite"));
   std::string data;
   switch (format) {

@@ -171,8 +171,8 @@ class MultiresSolver {
   mutable int flattened_ = 0;  // vertices whose detail the last evaluate() flattened
 
   enum class Base { Linear, NonlinearSolve, Given };
-  void update_base(std::span<const Eigen::Affine3d> transforms, Base source, const Eigen::Ref<const RowMatrixX3d>* given = nullptr,
-                   const Progress& progress = {}) const;
+  void update_base(std::span<const Eigen::Affine3d> transforms, Base source,
+                   const Eigen::Ref<const RowMatrixX3d>* given = nullptr, const Progress& progress = {}) const;
   void add_detail(VertexData<Vec3>& positions) const;
   // Rebuilds free vertex i with its height lowered by multires::safe_height; 1 if it was lowered.
   int flatten_detail(int i, Vec3* out) const;

@@ -199,7 +199,7 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
     if (!(handle_s[um] >= 1.0 / kMaxHandleScale && handle_s[um] <= kMaxHandleScale))
       throw InvalidInput("evaluate: transform " + std::to_string(m) + " scales by " + fmt_scale(handle_s[um]) +
                          "; the nonlinear model spreads a handle's scale through the support and takes scales "
-                         "from 1/" + std::to_string(int(kMaxHandleScale)) + " to " + std::to_string(int(kMaxHandleScale)) +
+                         "from 1/" + fmt_scale(kMaxHandleScale) + " to " + fmt_scale(kMaxHandleScale) +
                          " (the linear model takes any)");
     omega[um] = rotation_vector(handle_q[um]);
   }

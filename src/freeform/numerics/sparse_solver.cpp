@@ -222,7 +222,8 @@ struct SparseSolver::Impl {
             throw OutOfMemory("out of memory while ordering a " + std::to_string(a.rows()) + "-row system");
           if (!s) return "the symbolic analysis failed (CHOLMOD status " + std::to_string(status) + ")";
         }
-        require_memory(factorization_bytes(s->cholmod().lnz, a), "factorizing a " + std::to_string(a.rows()) + "-row system");
+        require_memory(factorization_bytes(s->cholmod().lnz, a),
+                       "factorizing a " + std::to_string(a.rows()) + "-row system");
         const SerialOpenMp serial_teams;  // CHOLMOD's 4-thread teams per supernode (serial_openmp.h)
         s->factorize(a);
         if (s->cholmod().status == CHOLMOD_OUT_OF_MEMORY)
@@ -364,7 +365,8 @@ Eigen::MatrixXd SparseSolver::solve(const Eigen::MatrixXd& b, bool check_residua
           ok = false;
         } else if constexpr (std::is_same_v<S, CholmodPtr>) {
           // cholmod_solve does not survive every failed workspace allocation: refuse up front.
-          require_memory(static_cast<std::size_t>(4 * 8 * b.size()), "solving with a " + std::to_string(b.rows()) + "-row factor");
+          require_memory(static_cast<std::size_t>(4 * 8 * b.size()),
+                         "solving with a " + std::to_string(b.rows()) + "-row factor");
           x = s->solve(b);
           if (s->cholmod().status == CHOLMOD_OUT_OF_MEMORY)
             throw OutOfMemory("out of memory while solving with a " + std::to_string(b.rows()) + "-row factor");
