@@ -116,7 +116,7 @@ class PySolver {
       const std::lock_guard lock(mutex_);
       drag_.reset();
       solver_->evaluate(t, positions_, progress);
-      require_finite(solver_->problems(positions_), t);  // as deform: never a silent NaN
+      require_finite_frame(t);
       std::memcpy(dst, positions_.raw().data(), positions_.size() * sizeof(Vec3));
     });
     return out;
@@ -131,7 +131,7 @@ class PySolver {
       const std::lock_guard lock(mutex_);
       drag_.reset();
       solver_->evaluate(t, positions_, progress);
-      require_finite(solver_->problems(positions_), t);
+      require_finite_frame(t);
       copy_touched(dst);
     });
   }
@@ -238,6 +238,13 @@ class PySolver {
   }
 
  private:
+  // As deform: never a silent NaN. Only the touched rows are scanned; problems() (which also
+  // counts folds) runs only to name the first bad vertex.
+  void require_finite_frame(std::span<const Eigen::Affine3d> transforms) const {
+    for (Vertex v : solver_->touched())
+      if (!positions_[v].allFinite()) return require_finite(solver_->problems(positions_), transforms);
+  }
+
   // Transforms of one call: on the stack for up to 8 movable handles (no allocation per frame).
   struct Buffer {
     std::array<Eigen::Affine3d, 8> small;

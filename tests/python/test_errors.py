@@ -176,7 +176,7 @@ def test_nonlinear_refuses_scales_it_would_blow_up():
     edit = {"support": {"vertices": [0, nb]}, "handles": [{"region": {"vertices": [nb]}}],
             "deformation": "nonlinear", "allow_unanchored": True}
     solver = freeform.EditSolver(mesh, freeform.Edit.from_dict(edit, mesh))
-    for s, text in [(1e6, r"1e\+06"), (1e-4, r"0\.0001"), (1e200, r"1e\+200")]:
+    for s, text in [(1e6, r"1000000"), (1e-4, r"0\.0001"), (1e200, r"1e\+200")]:
         with pytest.raises(freeform.Error, match=r"^evaluate: transform 0 scales by " + text + r"; the nonlinear model"):
             solver.evaluate([scaled(s)])
     assert np.isfinite(solver.evaluate([scaled(500.0)])).all()

@@ -34,11 +34,9 @@ std::optional<std::size_t> address_space_headroom() {
   return limit.rlim_cur > used ? static_cast<std::size_t>(limit.rlim_cur - used) : 0;
 }
 
-void require_memory(std::size_t bytes, const std::string& what) {
-  const std::optional<std::size_t> left = address_space_headroom();
-  if (!left || bytes <= *left) return;
+void throw_out_of_memory(const std::string& what, std::size_t bytes, std::size_t left) {
   throw OutOfMemory("out of memory while " + what + ": it needs about " + megabytes(bytes) +
-                    ", the process may allocate " + megabytes(*left) + " more (ulimit -v)");
+                    ", the process may allocate " + megabytes(left) + " more (ulimit -v)");
 }
 
 std::string out_of_memory_message() {

@@ -15,8 +15,16 @@ namespace freeform {
 std::optional<std::size_t> address_space_headroom();
 
 // Throws OutOfMemory "out of memory while <what>: it needs about N MB, the process may allocate
-// M MB more (ulimit -v)" when `bytes` exceed the headroom; does nothing without a limit.
-void require_memory(std::size_t bytes, const std::string& what);
+// M MB more (ulimit -v)" with what = describe(); the message is built only then (solves call
+// this once per nonlinear iteration).
+[[noreturn]] void throw_out_of_memory(const std::string& what, std::size_t bytes, std::size_t left);
+
+// Throws as above when `bytes` exceed the headroom; does nothing without a limit.
+template <class Describe>
+void require_memory(std::size_t bytes, const Describe& describe) {
+  if (const std::optional<std::size_t> left = address_space_headroom(); left && bytes > *left)
+    throw_out_of_memory(describe(), bytes, *left);
+}
 
 // For an allocation that failed without saying its size (std::bad_alloc): "out of memory", with
 // the address-space limit when there is one.

@@ -1,6 +1,7 @@
 #include "freeform/nonlinear/nonlinear_solver.h"
 
 #include "freeform/common/error.h"
+#include "freeform/common/json_messages.h"
 #include "freeform/common/parallel.h"
 #include "freeform/nonlinear/anderson.h"
 #include "freeform/nonlinear/enclosed_volume.h"
@@ -10,7 +11,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -36,12 +36,6 @@ constexpr double kSmoothingPerSqrtFree = 0.15, kBaseSmoothingPerSqrtFree = 0.25;
 constexpr int kMinSmoothingRings = 3, kMinBaseSmoothingRings = 2, kMaxSmoothingRings = 64;
 // Largest uniform scale (and smallest, its inverse) of a handle the model spreads (start()).
 constexpr double kMaxHandleScale = 1000.0;
-
-std::string fmt_scale(double s) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", s);
-  return buf;
-}
 
 Eigen::Map<const Vec3> row(const double* p, Eigen::Index i) { return Eigen::Map<const Vec3>(p + 3 * i); }
 
@@ -197,9 +191,9 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
     // The scale spreads through the support with BCM's weights: a handle of one vertex scaled
     // 1e6 about itself moves nothing in linear BCM but would blow its neighbours up by 1e3-1e6.
     if (!(handle_s[um] >= 1.0 / kMaxHandleScale && handle_s[um] <= kMaxHandleScale))
-      throw InvalidInput("evaluate: transform " + std::to_string(m) + " scales by " + fmt_scale(handle_s[um]) +
+      throw InvalidInput("evaluate: transform " + std::to_string(m) + " scales by " + json_messages::num(handle_s[um]) +
                          "; the nonlinear model spreads a handle's scale through the support and takes scales "
-                         "from 1/" + fmt_scale(kMaxHandleScale) + " to " + fmt_scale(kMaxHandleScale) +
+                         "from 1/" + json_messages::num(kMaxHandleScale) + " to " + json_messages::num(kMaxHandleScale) +
                          " (the linear model takes any)");
     omega[um] = rotation_vector(handle_q[um]);
   }

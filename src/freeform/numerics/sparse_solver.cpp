@@ -222,12 +222,12 @@ struct SparseSolver::Impl {
             throw OutOfMemory("out of memory while ordering a " + std::to_string(a.rows()) + "-row system");
           if (!s) return "the symbolic analysis failed (CHOLMOD status " + std::to_string(status) + ")";
         }
-        require_memory(factorization_bytes(s->cholmod().lnz, a),
-                       "factorizing a " + std::to_string(a.rows()) + "-row system");
+        const auto factorizing = [&] { return "factorizing a " + std::to_string(a.rows()) + "-row system"; };
+        require_memory(factorization_bytes(s->cholmod().lnz, a), factorizing);
         const SerialOpenMp serial_teams;  // CHOLMOD's 4-thread teams per supernode (serial_openmp.h)
         s->factorize(a);
         if (s->cholmod().status == CHOLMOD_OUT_OF_MEMORY)
-          throw OutOfMemory("out of memory while factorizing a " + std::to_string(a.rows()) + "-row system");
+          throw OutOfMemory("out of memory while " + factorizing());
         if (s->info() != Eigen::Success || s->cholmod().status < CHOLMOD_OK)
           return "the matrix is singular or not positive definite";
         blas_buffers_reserved = true;
@@ -365,11 +365,10 @@ Eigen::MatrixXd SparseSolver::solve(const Eigen::MatrixXd& b, bool check_residua
           ok = false;
         } else if constexpr (std::is_same_v<S, CholmodPtr>) {
           // cholmod_solve does not survive every failed workspace allocation: refuse up front.
-          require_memory(static_cast<std::size_t>(4 * 8 * b.size()),
-                         "solving with a " + std::to_string(b.rows()) + "-row factor");
+          const auto solving = [&] { return "solving with a " + std::to_string(b.rows()) + "-row factor"; };
+          require_memory(static_cast<std::size_t>(4 * 8 * b.size()), solving);
           x = s->solve(b);
-          if (s->cholmod().status == CHOLMOD_OUT_OF_MEMORY)
-            throw OutOfMemory("out of memory while solving with a " + std::to_string(b.rows()) + "-row factor");
+          if (s->cholmod().status == CHOLMOD_OUT_OF_MEMORY) throw OutOfMemory("out of memory while " + solving());
           ok = s->info() == Eigen::Success;
         } else {
           x = s.solve(b);
