@@ -20,7 +20,8 @@ using namespace freeform;
 
 struct Setup {
   Mesh mesh;
-  std::unique_ptr<EditSolver> solver;
+  std::unique_ptr<EditSolver> solver;                 // the default: vertex frames on the BCM base
+  std::unique_ptr<MultiresSolver> normal_encoding;    // normal displacement on the smooth operator shape
 };
 
 Setup& setup(int n) {
@@ -37,16 +38,23 @@ Setup& setup(int n) {
       if (x >= 0.45 && x <= 0.55) edit.handles[0].vertices.push_back(v);
     }
     s->solver = std::make_unique<EditSolver>(s->mesh, edit);
+    MultiresOptions normal;
+    normal.encoding = MultiresOptions::Encoding::Normal;
+    s->normal_encoding = std::make_unique<MultiresSolver>(s->mesh, s->solver->regions(), edit.settings, normal);
   }
   return *s;
 }
 
-void BM_MultiresReconstruct(benchmark::State& state) {
-  Setup& s = setup(static_cast<int>(state.range(0)));
+Eigen::Affine3d bend() {
   Eigen::Affine3d t = Eigen::Affine3d::Identity();
   t.translation() = Vec3(0, 0, 0.1);
   t.rotate(Eigen::AngleAxisd(0.2, Vec3::UnitY()));
-  const std::vector<Eigen::Affine3d> transforms{t};
+  return t;
+}
+
+void BM_MultiresReconstruct(benchmark::State& state) {
+  Setup& s = setup(static_cast<int>(state.range(0)));
+  const std::vector<Eigen::Affine3d> transforms{bend()};
   VertexData<Vec3> positions = s.mesh.positions();
   for (auto _ : state) {
     s.solver->evaluate(transforms, positions);
@@ -59,6 +67,22 @@ void BM_MultiresReconstruct(benchmark::State& state) {
   state.counters["operator_shape_ms"] = st.operator_shape_ms;  // part of decomposition_ms
   state.counters["bcm_precompute_ms"] =
       s.solver->bcm().stats().assembly_ms + s.solver->bcm().stats().factorization_ms + s.solver->bcm().stats().basis_ms;
+  state.counters["flipped"] = pr.flipped;
+}
+
+// The normal-displacement encoding (the nonlinear model's, and the linear default before
+// vertex frames) on the same setup and edit.
+void BM_MultiresReconstructNormalEncoding(benchmark::State& state) {
+  Setup& s = setup(static_cast<int>(state.range(0)));
+  const std::vector<Eigen::Affine3d> transforms{bend()};
+  VertexData<Vec3> positions = s.mesh.positions();
+  for (auto _ : state) {
+    s.normal_encoding->evaluate(transforms, positions);
+    benchmark::DoNotOptimize(positions.raw().data());
+  }
+  const MultiresStats& st = s.normal_encoding->stats();
+  const MultiresProblems pr = s.normal_encoding->problems(positions);
+  state.counters["decomposition_ms"] = st.decomposition_ms;
   state.counters["fallback"] = st.fallback;
   state.counters["flipped"] = pr.flipped;
   state.counters["overlaps"] = pr.overlaps;
@@ -79,6 +103,7 @@ void BM_BcmEvaluateSameSetup(benchmark::State& state) {
 
 // n = 222: 49.7k vertices, 35.1k free; n = 650: 424k vertices, 300k free.
 BENCHMARK(BM_MultiresReconstruct)->Arg(222)->Arg(650)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_MultiresReconstructNormalEncoding)->Arg(222)->Arg(650)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_BcmEvaluateSameSetup)->Arg(222)->Arg(650)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

@@ -159,8 +159,12 @@ void run(const DeformOptions& opt) {
   if (ms && ms->detail_by_model) {
     fmt::print("multiresolution: {}\n", ms->operator_fallback);
   } else if (ms) {
-    fmt::print("multiresolution: decomposition {:.1f} ms, reconstruct {:.3f} ms; {} normal-encoded, {} fallback vertices\n",
-               ms->decomposition_ms, reconstruct_ms, ms->normal_encoded, ms->fallback);
+    if (ms->vertex_frames > 0)
+      fmt::print("multiresolution: decomposition {:.1f} ms, reconstruct {:.3f} ms; {} vertices in vertex frames\n",
+                 ms->decomposition_ms, reconstruct_ms, ms->vertex_frames);
+    else
+      fmt::print("multiresolution: decomposition {:.1f} ms, reconstruct {:.3f} ms; {} normal-encoded, {} fallback vertices\n",
+                 ms->decomposition_ms, reconstruct_ms, ms->normal_encoded, ms->fallback);
     if (problems.detail.overlaps > 0)
       fmt::print(stderr,
                  "warning: the bend is tighter than the detail is tall at {} vertices: their detail was flattened there "
@@ -168,7 +172,7 @@ void run(const DeformOptions& opt) {
                  problems.detail.overlaps);
     if (problems.detail.flipped > 0)
       fmt::print(stderr, "warning: {} detail triangles flipped against their base\n", problems.detail.flipped);
-    if (!ms->smooth_operator) fmt::print("multiresolution: {}\n", ms->operator_fallback);
+    if (!ms->operator_fallback.empty()) fmt::print("multiresolution: {}\n", ms->operator_fallback);
   }
   if (!opt.report.empty()) fmt::print("wrote {}\n", opt.report);
 }

@@ -91,8 +91,10 @@ TEST(CliDeform, EditWritesMeshAndReport) {
     EXPECT_GE(j["multiresolution"][key].get<double>(), 0.0) << key;
   }
   EXPECT_EQ(j["multiresolution"]["reconstruct_repeats"], 51);
-  EXPECT_EQ(j["multiresolution"]["normal_encoded"].get<int>() + j["multiresolution"]["fallback"].get<int>(),
-            j["counts"]["free"].get<int>());
+  // The linear model's default encoding: every free vertex in the frame of its own base vertex.
+  EXPECT_EQ(j["multiresolution"]["detail"], "vertex_frames");
+  EXPECT_EQ(j["multiresolution"]["vertex_frames"].get<int>(), j["counts"]["free"].get<int>());
+  EXPECT_EQ(j["multiresolution"]["normal_encoded"].get<int>() + j["multiresolution"]["fallback"].get<int>(), 0);
   EXPECT_EQ(j["multiresolution"]["flipped_triangles"], 0);
   EXPECT_EQ(j["multiresolution"]["overlaps"], 0);
   EXPECT_THAT(r.out, HasSubstr("multiresolution: decomposition"));

@@ -198,7 +198,8 @@ TEST_P(IdentityOnRealMeshes, ReproducesTheInputForEveryEncoding) {
   const Regions regions = bfs_regions(mesh, Vertex(GetParam().seed), 3000, 60);
   BcmSettings settings;
   settings.order = 2;
-  for (const auto encoding : {MultiresOptions::Encoding::Normal, MultiresOptions::Encoding::LocalFrame}) {
+  using Encoding = MultiresOptions::Encoding;
+  for (const auto encoding : {Encoding::VertexFrame, Encoding::Normal, Encoding::LocalFrame}) {
     MultiresOptions options;
     options.encoding = encoding;
     const MultiresSolver solver(mesh, regions, settings, options);
@@ -206,12 +207,16 @@ TEST_P(IdentityOnRealMeshes, ReproducesTheInputForEveryEncoding) {
     VertexData<Vec3> p = mesh.positions();
     solver.evaluate(identity(solver.n_movable()), p);
     const double err = max_error(mesh, p, mesh.positions()) / diag;
-    std::printf("[%s %s] free %d, normal %d, fallback %d, max|h| %.3g (diag %.3g), rest folded %d: identity error %.2e diag\n",
-                GetParam().file, encoding == MultiresOptions::Encoding::Normal ? "normal" : "frame", st.free,
-                st.normal_encoded, st.fallback, st.max_height, diag, st.rest_folded, err);
+    const char* name = encoding == Encoding::VertexFrame ? "vertex frame" : encoding == Encoding::Normal ? "normal" : "frame";
+    std::printf("[%s %s] free %d, normal %d, fallback %d, vertex frames %d, max|h| %.3g (diag %.3g), rest folded %d: identity error %.2e diag\n",
+                GetParam().file, name, st.free, st.normal_encoded, st.fallback, st.vertex_frames, st.max_height, diag,
+                st.rest_folded, err);
     EXPECT_LE(err, 1e-12);
-    EXPECT_EQ(st.normal_encoded + st.fallback, st.free);
-    if (encoding == MultiresOptions::Encoding::LocalFrame) {
+    EXPECT_EQ(st.normal_encoded + st.fallback + st.vertex_frames, st.free);
+    if (encoding == Encoding::VertexFrame) {
+      EXPECT_EQ(st.vertex_frames, st.free);
+      EXPECT_FALSE(st.smooth_operator);  // the paper's base: the detailed mesh's operator
+    } else if (encoding == Encoding::LocalFrame) {
       EXPECT_EQ(st.fallback, st.free);
     } else {
       EXPECT_GT(st.normal_encoded, st.free * 9 / 10);
@@ -329,13 +334,22 @@ TEST(Multires, TooTightABendIsReported) {
 
 // ---------------------------------------------------------------------------------------------
 
-TEST(Multires, SharpFeaturesOfFandiskStaySharp) {
+// Both encodings of the linear model on the same edit: vertex frames (the default, over the
+// paper's base) and normal displacement (foot points, the nonlinear model's encoding). Vertex
+// frames carry detail vectors several edge lengths long here (the fair base cuts the corners),
+// so they bend the features somewhat more (measured: mean 1.86 / max 11.0 degrees against 1.38
+// / 5.33).
+class FandiskFeatures : public ::testing::TestWithParam<MultiresOptions::Encoding> {};
+
+TEST_P(FandiskFeatures, StaySharp) {
   FREEFORM_REQUIRE_CGAL_MESHES();
   const Mesh mesh = load("fandisk.off");
   const Regions regions = bfs_regions(mesh, Vertex(3000), 2500, 40);
   BcmSettings settings;
   settings.order = 2;
-  const MultiresSolver solver(mesh, regions, settings);
+  MultiresOptions options;
+  options.encoding = GetParam();
+  const MultiresSolver solver(mesh, regions, settings, options);
   const VertexData<Vec3> n0 = vertex_normals(mesh, mesh.positions());
   const Vec3 t = 0.04 * diagonal(mesh) * n0[Vertex(3000)];
   const std::vector<Eigen::Affine3d> tf{translation(t)};
@@ -366,15 +380,22 @@ TEST(Multires, SharpFeaturesOfFandiskStaySharp) {
     sum_mr += d;
     sum_plain += std::abs(angle(plain, f, g) - a0);
   }
-  std::printf("fandisk: %d feature edges in the support; dihedral change multires mean %.2f max %.2f deg, plain BCM mean %.2f deg; flipped %d overlaps %d\n",
-              n, sum_mr / n, max_mr, sum_plain / n, pr.flipped, pr.overlaps);
+  const bool frames = GetParam() == MultiresOptions::Encoding::VertexFrame;
+  std::printf("fandisk (%s): %d feature edges in the support; dihedral change multires mean %.2f max %.2f deg, plain BCM mean %.2f deg; flipped %d overlaps %d\n",
+              frames ? "vertex frames" : "normal displacement", n, sum_mr / n, max_mr, sum_plain / n, pr.flipped, pr.overlaps);
   ASSERT_GT(n, 20);
   EXPECT_LT(sum_mr / n, 3.0);
-  EXPECT_LT(max_mr, 10.0);
+  EXPECT_LT(max_mr, frames ? 12.0 : 10.0);
   EXPECT_GT(sum_plain / n, 5 * (sum_mr / n));
   EXPECT_EQ(pr.overlaps, 0);
-  EXPECT_LE(pr.flipped, 5);  // a few thin triangles next to the features (measured: 2)
+  EXPECT_LE(pr.flipped, 5);  // a few thin triangles next to the features (measured: 0 and 2)
 }
+
+INSTANTIATE_TEST_SUITE_P(Encodings, FandiskFeatures,
+                         ::testing::Values(MultiresOptions::Encoding::VertexFrame, MultiresOptions::Encoding::Normal),
+                         [](const ::testing::TestParamInfo<MultiresOptions::Encoding>& p) {
+                           return p.param == MultiresOptions::Encoding::VertexFrame ? "VertexFrames" : "NormalDisplacement";
+                         });
 
 // ---------------------------------------------------------------------------------------------
 
@@ -385,7 +406,9 @@ TEST(Multires, FallbackOnFandiskIsAtFeaturesAndBoundaries) {
   FREEFORM_REQUIRE_CGAL_MESHES();
   const Mesh mesh = load("fandisk.off");
   const Regions regions = bfs_regions(mesh, Vertex(3000), 2500, 40);
-  const MultiresSolver solver(mesh, regions, BcmSettings{});
+  MultiresOptions normal;
+  normal.encoding = MultiresOptions::Encoding::Normal;  // the fallback belongs to this encoding
+  const MultiresSolver solver(mesh, regions, BcmSettings{}, normal);
   const std::vector<bool> fb = solver.fallback_mask();
   const auto& free = solver.bcm().free_vertices();
   std::vector<Vertex> constrained;
@@ -446,10 +469,28 @@ TEST(Multires, EveryEncodingFollowsARigidMotionExactly) {
     if (std::abs(mesh.position(v).x() - 0.5) < 0.03) handle.vertices.push_back(v);
   }
   const Regions regions(mesh, support, {handle});
-  const MultiresSolver solver(mesh, regions, BcmSettings{});
+  MultiresOptions normal;
+  normal.encoding = MultiresOptions::Encoding::Normal;
+  const MultiresSolver solver(mesh, regions, BcmSettings{}, normal);
   const std::vector<bool> fb = solver.fallback_mask();
   const auto& free = solver.bcm().free_vertices();
   const double diag = diagonal(mesh);
+  {  // vertex frames (the default): every vertex in the frame of its own base vertex
+    const MultiresSolver frames(mesh, regions, BcmSettings{});
+    ASSERT_EQ(frames.stats().vertex_frames, frames.stats().free);
+    VertexData<Vec3> y = mesh.positions();
+    frames.evaluate(identity(1), y);
+    EXPECT_LE(max_error(mesh, y, mesh.positions()), 1e-12 * diag);
+    Eigen::Affine3d rigid = Eigen::Affine3d::Identity();
+    rigid.translate(Vec3(0.1, -0.2, 0.3));
+    rigid.rotate(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
+    frames.evaluate(std::vector<Eigen::Affine3d>{rigid}, y);
+    double err = 0;
+    for (Vertex v : free) err = std::max(err, (y[v] - rigid * mesh.position(v)).norm());
+    std::printf("rigid motion, vertex frames: error %.2e (diag %.3g)\n", err, diag);
+    EXPECT_LE(err, 1e-9 * diag);
+    EXPECT_EQ(frames.problems(y).flipped, 0);
+  }
   VertexData<Vec3> x = mesh.positions();
   solver.evaluate(identity(1), x);
   EXPECT_LE(max_error(mesh, x, mesh.positions()), 1e-12 * diag);
@@ -478,6 +519,10 @@ TEST(Multires, RejectsWrongInput) {
   MultiresOptions bad;
   bad.search_rings = 0;
   EXPECT_THROW(MultiresSolver(s.mesh, s.regions, BcmSettings{}, bad), InvalidInput);
+  MultiresOptions frames_on_nonlinear;
+  frames_on_nonlinear.encoding = MultiresOptions::Encoding::VertexFrame;
+  frames_on_nonlinear.nonlinear = NonlinearOptions{};
+  EXPECT_THROW(MultiresSolver(s.mesh, s.regions, BcmSettings{}, frames_on_nonlinear), InvalidInput);
   const MultiresSolver solver(s.mesh, s.regions, BcmSettings{});
   VertexData<Vec3> x = s.mesh.positions();
   EXPECT_THROW(solver.evaluate(identity(2), x), InvalidInput);

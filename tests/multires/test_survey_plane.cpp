@@ -125,36 +125,72 @@ void write_for_rendering(const Survey& s, const Mesh& out, const std::string& na
   def << "1 0 0 -32\n0 1 0 0\n0 0 1 57\n0 0 0 1\n";
 }
 
-class SurveyPlane : public ::testing::TestWithParam<int> {};
+// The heights as the paper defines detail (Botsch & Kobbelt 2004, section 5): the apex's offset
+// along the vertex normal of the BCM base, the k-harmonic solve of the bumpy plane's support with
+// the same k, smoothness and handle transform, before (identity) and after the edit. The base is
+// solved here with multiresolution off (BcmSolver: a direct solve, validated against CGAL's
+// fair and closed forms in tests/references), not through the multiresolution code; the
+// normals are area weighted, computed here.
+struct Smoothness {
+  int order;
+  double c;  // outer and inner boundary smoothness C^c
+};
 
-TEST_P(SurveyPlane, SBendKeepsTheBumpsWithoutFolds) {
-  const int k = GetParam();
-  const Survey s = survey(k, true);
+class SurveyPlaneHeights : public ::testing::TestWithParam<Smoothness> {};
+
+Survey with_smoothness(Survey s, double c) {
+  s.edit.settings.smoothness.outer = c;
+  s.edit.settings.smoothness.inner = c;
+  return s;
+}
+
+TEST_P(SurveyPlaneHeights, SBendKeepsTheBumpHeightsOnThePapersBaseWithoutFolds) {
+  const auto [k, c] = GetParam();
+  const Survey s = with_smoothness(survey(k, true), c);
   ASSERT_EQ(s.apexes.size(), 13u);
-  EditStats stats;
-  const Mesh out = deform(s.mesh, s.edit, &stats);
-  // The smooth base: the same S-bend of the plane without bumps (plain BCM).
-  Survey flat = survey(k, false, false);
-  const Mesh base = deform(flat.mesh, flat.edit);
-  write_for_rendering(s, out, "survey-k" + std::to_string(k));
-
-  const int folded = folded_edges(s.mesh, out);
-  EXPECT_EQ(folded, 0) << "k = " << k;
   const EditSolver solver(s.mesh, s.edit);
-  VertexData<Vec3> p = s.mesh.positions();
-  solver.evaluate(solver.transforms(s.edit), p);
-  EXPECT_EQ(solver.problems(p).folded_edges, folded);  // the library's metric agrees
+  Mesh out = s.mesh;
+  solver.evaluate(solver.transforms(s.edit), out.positions());
+  if (k == 3 && c == 2) write_for_rendering(s, out, "survey-k3");
+  if (k == 2 && c == 1) write_for_rendering(s, out, "survey-k2");
+
+  Survey plain = s;
+  plain.edit.multiresolution = false;
+  const Mesh base = deform(s.mesh, plain.edit);
+  Edit unmoved = plain.edit;
+  unmoved.handles[0].matrix = Eigen::Affine3d::Identity();
+  const Mesh rest_base = deform(s.mesh, unmoved);
+
+  // The result's smooth part is that base (to 0.5 % of the bump height).
+  VertexData<Vec3> own_base = s.mesh.positions();
+  solver.multires()->base_positions(own_base);
+  double base_gap = 0;
+  for (Vertex v : s.mesh.vertices()) base_gap = std::max(base_gap, (own_base[v] - base.position(v)).norm());
+  EXPECT_LE(base_gap, 0.005 * kHeight) << "k = " << k << ", C" << c;
 
   std::vector<double> errors;
   for (Vertex a : s.apexes) {
-    const double rest = s.mesh.position(a).z();  // the base is flat (z = 0) under the free bumps
-    ASSERT_NEAR(rest, kHeight, 1e-9);
-    errors.push_back(std::abs(height(s.mesh, base, out, a) - rest) / rest);
+    const double before = height(s.mesh, rest_base, s.mesh, a), after = height(s.mesh, base, out, a);
+    errors.push_back(std::abs(after - before) / before);
   }
   std::sort(errors.begin(), errors.end());
-  EXPECT_LE(errors[errors.size() / 2], 0.02) << "median apex height error, k = " << k;
-  EXPECT_LE(errors.back(), 0.05) << "max apex height error, k = " << k;
+  const int folded = folded_edges(s.mesh, out);
+  std::printf("k=%d C%g: apex height error median %.2f%%, max %.2f%%; %d folded edges; base gap %.1e\n", k, c,
+              100 * errors[errors.size() / 2], 100 * errors.back(), folded, base_gap);
+  EXPECT_LE(errors[errors.size() / 2], 0.02) << "median apex height error, k = " << k << ", C" << c;
+  EXPECT_LE(errors.back(), 0.05) << "max apex height error, k = " << k << ", C" << c;
+  EXPECT_EQ(folded, 0) << "k = " << k << ", C" << c;
+  EXPECT_EQ(solver.problems(out.positions()).folded_edges, folded);  // the library's metric agrees
 }
+
+INSTANTIATE_TEST_SUITE_P(OrdersAndSmoothness, SurveyPlaneHeights,
+                         ::testing::Values(Smoothness{2, 1}, Smoothness{2, 0}, Smoothness{3, 2}, Smoothness{3, 1},
+                                           Smoothness{3, 0}),
+                         [](const ::testing::TestParamInfo<Smoothness>& p) {
+                           return "k" + std::to_string(p.param.order) + "C" + std::to_string(static_cast<int>(p.param.c));
+                         });
+
+class SurveyPlane : public ::testing::TestWithParam<int> {};
 
 // The same S-bend with the nonlinear model (docs/nonlinear.md): the base rotates with the bend,
 // the detail rides along; the same bounds hold, the apex heights against the nonlinear bend of
@@ -205,24 +241,27 @@ TEST_P(SurveyPlane, NonlinearSBendHasNoKinkAtTheFixedStrip) {
 }
 
 // A bend tighter than the bumps are tall (the bottom of the S has a radius of curvature below
-// 10 under the first row of bumps): the detail there is flattened just enough, counted in the
-// report, and nothing is thrown away from the base (no spikes), nothing is non-finite.
-TEST_P(SurveyPlane, TooTightABendFlattensTheDetailLocally) {
+// 10 under the first row of bumps): the detail cannot keep its height there without folding.
+// What folds stays local and is reported (folded edges, flipped detail triangles), nothing is
+// thrown away from the base (no spikes), nothing is non-finite.
+TEST_P(SurveyPlane, TooTightABendStaysLocalAndIsReported) {
   const int k = GetParam();
   const Vec3 move(-55, 0, 60);
   const Survey s = survey(k, true, true, move);
   const EditSolver solver(s.mesh, s.edit);
-  VertexData<Vec3> p = s.mesh.positions();
-  solver.evaluate(solver.transforms(s.edit), p);
-  const EditProblems problems = solver.problems(p);
+  Mesh out = s.mesh;
+  solver.evaluate(solver.transforms(s.edit), out.positions());
+  const EditProblems problems = solver.problems(out.positions());
+  const int folded = folded_edges(s.mesh, out);
+  std::printf("tight S-bend k=%d: %d folded edges, %d flipped detail triangles\n", k, folded, problems.detail.flipped);
   EXPECT_EQ(problems.non_finite, 0);
-  EXPECT_GT(problems.detail.overlaps, 0) << "the flattened vertices are counted";
-  EXPECT_LT(problems.detail.overlaps, static_cast<int>(solver.touched().size()) / 50) << "and stay local";
-  EXPECT_EQ(problems.detail.flipped, 0);
+  EXPECT_EQ(problems.folded_edges, folded);
+  EXPECT_GT(problems.detail.flipped, 0) << "the folded detail is counted";
+  EXPECT_LT(folded, static_cast<int>(solver.touched().size()) / 500) << "and stays local";
   Survey flat = survey(k, false, false, move);
   const Mesh base = deform(flat.mesh, flat.edit);
   double farthest = 0;
-  for (Vertex v : solver.touched()) farthest = std::max(farthest, (p[v] - base.position(v)).norm());
+  for (Vertex v : solver.touched()) farthest = std::max(farthest, (out.position(v) - base.position(v)).norm());
   EXPECT_LE(farthest, 1.5 * kHeight) << "a spike: a vertex far off its base (the bumps are kHeight tall)";
 }
 

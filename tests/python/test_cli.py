@@ -75,7 +75,7 @@ def test_nonlinear_model_carries_overhanging_detail(cli, tmp_path, demo):
     d["deformation"] = "linear"
     d["multiresolution"] = True
     assert freeform.EditSolver(mesh, freeform.Edit.from_dict(d, mesh)).stats["multiresolution"]["detail"] == (
-        "normal_displacement")
+        "vertex_frames")
 
 
 def test_memory_caps_fail_cleanly(cli, tmp_path):

@@ -12,14 +12,15 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
   for (const HandleRegion& h : regions.handles()) handles.push_back({{"vertices", h.vertices.size()}, {"movable", h.movable}});
   Json multires = nullptr;
   if (ms)
-    multires = {{"detail", ms->detail_by_model ? "nonlinear_model" : "normal_displacement"},
+    multires = {{"detail", ms->detail_by_model ? "nonlinear_model" : ms->vertex_frames > 0 ? "vertex_frames" : "normal_displacement"},
                 {"decomposition_ms", ms->decomposition_ms},
                 {"smooth_operator", ms->smooth_operator},
-                {"operator_fallback", ms->smooth_operator ? Json(nullptr) : Json(ms->operator_fallback)},
+                {"operator_fallback", ms->operator_fallback.empty() ? Json(nullptr) : Json(ms->operator_fallback)},
                 {"operator_shape_ms", ms->operator_shape_ms},
                 {"reconstruct_ms", frame.reconstruction_ms},
                 {"normal_encoded", ms->normal_encoded},
                 {"fallback", ms->fallback},
+                {"vertex_frames", ms->vertex_frames},
                 {"max_height", ms->max_height},
                 {"flipped_triangles", problems.detail.flipped},
                 {"overlaps", problems.detail.overlaps}};

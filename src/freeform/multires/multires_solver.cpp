@@ -7,6 +7,7 @@
 #include "freeform/mesh/traversal.h"
 #include "freeform/multires/normal_displacement.h"
 #include "freeform/multires/operator_shape.h"
+#include "freeform/multires/vertex_frame.h"
 
 #include <algorithm>
 #include <atomic>
@@ -37,22 +38,41 @@ const MultiresOptions& validated(const MultiresOptions& o) {
     throw InvalidInput("multiresolution: search_rings must be in [1, 8], got " + std::to_string(o.search_rings));
   if (!(o.barycentric_tolerance >= 0.0 && o.barycentric_tolerance < 0.5))
     throw InvalidInput("multiresolution: barycentric_tolerance must be in [0, 0.5)");
+  if (o.encoding == MultiresOptions::Encoding::VertexFrame && o.nonlinear)
+    throw InvalidInput("multiresolution: vertex frames ride on the linear base only (the nonlinear base uses normal displacement)");
   return o;
+}
+
+MultiresOptions::Encoding resolved(const MultiresOptions& o) {
+  if (o.encoding != MultiresOptions::Encoding::Automatic) return o.encoding;
+  return o.nonlinear ? MultiresOptions::Encoding::Normal : MultiresOptions::Encoding::VertexFrame;
+}
+
+// The base's operator: vertex frames carry detail over the paper's base (the detailed mesh's
+// operator); the other encodings need the smooth foot-point shape (docs/multires.md).
+OperatorShape wanted_shape(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
+                           const MultiresOptions& options, const Progress& progress) {
+  if (resolved(options) == MultiresOptions::Encoding::VertexFrame) return {};
+  return base_operator_shape(mesh, regions, settings, progress);
 }
 
 }  // namespace
 
 MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                                const MultiresOptions& options, const Progress& progress)
-    : MultiresSolver(mesh, regions, settings, options, progress, base_operator_shape(mesh, regions, settings, progress)) {}
+    : MultiresSolver(mesh, regions, settings, options, progress, wanted_shape(mesh, regions, settings, options, progress)) {}
 
 MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                                const MultiresOptions& options, const Progress& progress, const OperatorShape& shape,
                                BcmAnalysis* analysis)
-    : bcm_(mesh, regions, settings, progress, shape.positions.size() > 0 ? &shape.positions : nullptr,
-           validated(options).nonlinear.has_value(), RowOrder::BreadthFirst, analysis),
-      n_vertices_(mesh.n_vertices()) {
-  stats_.smooth_operator = shape.positions.size() > 0;
+    : bcm_(mesh, regions, settings, progress,
+           resolved(validated(options)) != MultiresOptions::Encoding::VertexFrame && shape.positions.size() > 0
+               ? &shape.positions
+               : nullptr,
+           options.nonlinear.has_value(), RowOrder::BreadthFirst, analysis),
+      n_vertices_(mesh.n_vertices()),
+      vertex_frames_(resolved(options) == MultiresOptions::Encoding::VertexFrame) {
+  stats_.smooth_operator = shape.positions.size() > 0 && !vertex_frames_;
   stats_.operator_fallback = shape.fallback;
   stats_.operator_shape_ms = shape.ms;
   progress.step("detail", 0.9);
@@ -154,7 +174,7 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
   const double* B = base_.data();
   const double* N = normal_.data();
   const double tol = options.barycentric_tolerance;
-  const bool normal_encoding = options.encoding == MultiresOptions::Encoding::Normal;
+  const bool normal_encoding = resolved(options) == MultiresOptions::Encoding::Normal;
   // The search walks local indices (compact, free vertices first in breadth-first order)
   // instead of the mesh's: at 1M free most of its time was cache misses on #V-sized arrays.
   // Per local vertex within rings + 1 rings of the free set, in mesh.outgoing order: the
@@ -179,9 +199,10 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
     return std::span<const Step>(steps.data() + step_offset[static_cast<std::size_t>(l)],
                                  steps.data() + step_offset[static_cast<std::size_t>(l) + 1]);
   };
+  if (vertex_frames_) encode_vertex_frames(mesh, local, set_normal_vertices);
   const std::atomic<bool>* cancel = progress.cancel;
-#pragma omp parallel
-  {
+#pragma omp parallel if (!vertex_frames_)
+  if (!vertex_frames_) {
     std::vector<int> frontier, next, cand;
     // Per-thread marks (the free vertex i that saw a vertex / face last) instead of linear
     // searches over the candidates: 0.5-0.9 s of the encoding's 8 s at 1M free.
@@ -298,7 +319,10 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
   progress.check();
   for (std::size_t i = 0; i < codes_.size(); ++i) {
     const Code& c = codes_[i];
-    if (c.corner[2] >= 0) {
+    if (vertex_frames_) {
+      ++stats_.vertex_frames;
+      if (c.corner[1] >= 0) stats_.max_height = std::max(stats_.max_height, std::abs(c.w[2]));
+    } else if (c.corner[2] >= 0) {
       ++stats_.normal_encoded;
       stats_.max_height = std::max(stats_.max_height, std::abs(c.h));
       if (rest_sign_[i] <= 0) ++stats_.rest_folded;
@@ -307,7 +331,7 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
     }
   }
   stats_.free = n_free_;
-  {  // per frame, normals are needed at the corners of the encodings only
+  if (!vertex_frames_) {  // per frame, normals are needed at the corners of the encodings only
     std::vector<char> used(static_cast<std::size_t>(n_local), 0);
     for (const Code& c : codes_) {
       used[static_cast<std::size_t>(c.corner[0])] = 1;
@@ -341,8 +365,100 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
 
 std::vector<bool> MultiresSolver::fallback_mask() const {
   std::vector<bool> out(codes_.size());
-  for (std::size_t i = 0; i < codes_.size(); ++i) out[i] = codes_[i].corner[2] < 0;
+  for (std::size_t i = 0; i < codes_.size(); ++i) out[i] = !vertex_frames_ && codes_[i].corner[2] < 0;
   return out;
+}
+
+void MultiresSolver::encode_vertex_frames(const Mesh& mesh, const VertexData<int>& local,
+                                          const std::function<void(const std::vector<char>&)>& set_normal_vertices) {
+  // Rings (CSR over local vertices) of the free vertices and of their neighbours: the frames'
+  // normals average over both.
+  const int n_local = static_cast<int>(local_global_.size());
+  std::vector<char> smoothed(static_cast<std::size_t>(n_local), 0);
+  auto ring_of = [&](int l) {
+    std::vector<int> out;
+    for (Halfedge he : mesh.outgoing(Vertex(local_global_[static_cast<std::size_t>(l)]))) out.push_back(local[mesh.to_vertex(he)]);
+    return out;
+  };
+  for (int i = 0; i < n_free_; ++i) {
+    smoothed[static_cast<std::size_t>(i)] = 1;
+    for (int l : ring_of(i)) smoothed[static_cast<std::size_t>(l)] = 1;
+  }
+  ring_offset_.assign(1, 0);
+  ring_.clear();
+  smoothed_vertices_.clear();
+  std::vector<char> needs_normal(static_cast<std::size_t>(n_local), 0);
+  for (int l = 0; l < n_local; ++l) {
+    if (smoothed[static_cast<std::size_t>(l)]) {
+      smoothed_vertices_.push_back(l);
+      needs_normal[static_cast<std::size_t>(l)] = 1;
+      for (int r : ring_of(l)) {
+        ring_.push_back(r);
+        needs_normal[static_cast<std::size_t>(r)] = 1;
+      }
+    }
+    ring_offset_.push_back(static_cast<int>(ring_.size()));
+  }
+  set_normal_vertices(needs_normal);
+  ring_weight_.resize(2 * static_cast<std::size_t>(ring_offset_[static_cast<std::size_t>(n_free_)]));
+  ring_normal_.setZero(n_local, 3);
+  update_ring_normals();
+  const double* B = base_.data();
+  parallel_for(n_free_, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (auto i = static_cast<int>(lo); i < static_cast<int>(hi); ++i) {
+      const int first = ring_offset_[static_cast<std::size_t>(i)];
+      const int count = ring_offset_[static_cast<std::size_t>(i) + 1] - first;
+      const Vec3 center = Map3(B + 3 * i), n = ring_average(ring_normal_.data(), i);
+      multires::stencil_weights(center, n, count,
+                                [&](int j) { return Vec3(Map3(B + 3 * ring_[static_cast<std::size_t>(first + j)])); },
+                                ring_weight_.data() + 2 * first);
+      const Vec3 t = frame_tangent(i, n);
+      const Vec3 d = mesh.position(Vertex(local_global_[static_cast<std::size_t>(i)])) - center;
+      Code& code = codes_[static_cast<std::size_t>(i)];
+      const bool framed = n.squaredNorm() > 0.5 && t.squaredNorm() > 0.5;
+      code.corner = {i, framed ? 0 : -1, -1};  // corner[1] = -1: a pure offset (no frame)
+      code.w = framed ? std::array<double, 3>{d.dot(t), d.dot(n.cross(t)), d.dot(n)} : std::array<double, 3>{d[0], d[1], d[2]};
+    }
+  });
+}
+
+Vec3 MultiresSolver::frame_tangent(int i, const Vec3& n) const {
+  const double* b = base_.data();
+  const Vec3 center = Map3(b + 3 * i);
+  Vec3 g = Vec3::Zero(), h = Vec3::Zero();
+  const int* ring = ring_.data();
+  const double* w = ring_weight_.data();
+  for (int j = ring_offset_[static_cast<std::size_t>(i)]; j < ring_offset_[static_cast<std::size_t>(i) + 1]; ++j) {
+    const Vec3 e = Map3(b + 3 * ring[j]) - center;
+    g += w[2 * j] * e;
+    h += w[2 * j + 1] * e;
+  }
+  return multires::tangent_from_moments(g, h, n);
+}
+
+// The vertex frames' normals: the base's unit vertex normals averaged over the vertex and its
+// ring, twice (two rings): first over the free vertices and their neighbours (ring_normal_),
+// then per free vertex (frame_normal). One vertex's own normal is rough where the base is
+// squeezed (near fandisk's sharp features its tiny triangles turn by 0.1 to 14 degrees within one
+// ring under a 4 % translation), and the detail, several edge lengths long there, amplified that
+// into kinks.
+void MultiresSolver::update_ring_normals() const {
+  update_normals();
+  const double* nn = normal_.data();
+  double* r1 = ring_normal_.data();
+  const int* sv = smoothed_vertices_.data();
+  parallel_for(static_cast<std::ptrdiff_t>(smoothed_vertices_.size()), kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (auto k = lo; k < hi; ++k) Eigen::Map<Vec3>(r1 + 3 * sv[k]) = ring_average(nn, sv[k]);
+  });
+}
+
+Vec3 MultiresSolver::ring_average(const double* unit, int l) const {
+  const int* offset = ring_offset_.data();
+  const int* ring = ring_.data();
+  Vec3 s = Map3(unit + 3 * l);
+  for (int j = offset[l]; j < offset[l + 1]; ++j) s += Map3(unit + 3 * ring[j]);
+  const double sq = s.squaredNorm();
+  return sq > 0.0 ? Vec3(s / std::sqrt(sq)) : s;
 }
 
 void MultiresSolver::update_base(std::span<const Eigen::Affine3d> transforms, Base source,
@@ -381,21 +497,8 @@ Vec3 MultiresSolver::base_face_normal(int f) const {
 }
 
 void MultiresSolver::update_normals() const {
-  const double* b = base_.data();
-  double* fn = fnormal_.data();
-  const int nf = static_cast<int>(normal_faces_.size());
-  const int* fs = normal_faces_.data();
-  const std::array<int, 3>* faces = faces_.data();
-  parallel_for(nf, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
-    for (auto k = static_cast<int>(lo); k < static_cast<int>(hi); ++k) {
-      const std::array<int, 3>& f = faces[fs[k]];
-      const Vec3 p0 = Map3(b + 3 * f[0]);
-      const Vec3 n = (Map3(b + 3 * f[1]) - p0).cross(Map3(b + 3 * f[2]) - p0);  // area weighted
-      fn[3 * k] = n[0];
-      fn[3 * k + 1] = n[1];
-      fn[3 * k + 2] = n[2];
-    }
-  });
+  update_face_normals();
+  const double* fn = fnormal_.data();
   double* vn = normal_.data();
   const int nv = static_cast<int>(normal_vertices_.size());
   const int* off = vf_offset_.data();
@@ -411,6 +514,24 @@ void MultiresSolver::update_normals() const {
       r[0] = n[0];
       r[1] = n[1];
       r[2] = n[2];
+    }
+  });
+}
+
+void MultiresSolver::update_face_normals() const {
+  const double* b = base_.data();
+  double* fn = fnormal_.data();
+  const int nf = static_cast<int>(normal_faces_.size());
+  const int* fs = normal_faces_.data();
+  const std::array<int, 3>* faces = faces_.data();
+  parallel_for(nf, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (auto k = static_cast<int>(lo); k < static_cast<int>(hi); ++k) {
+      const std::array<int, 3>& f = faces[fs[k]];
+      const Vec3 p0 = Map3(b + 3 * f[0]);
+      const Vec3 n = (Map3(b + 3 * f[1]) - p0).cross(Map3(b + 3 * f[2]) - p0);  // area weighted
+      fn[3 * k] = n[0];
+      fn[3 * k + 1] = n[1];
+      fn[3 * k + 2] = n[2];
     }
   });
 }
@@ -456,8 +577,36 @@ void MultiresSolver::reconstruct(std::span<const Eigen::Affine3d> transforms, Ei
   add_detail(positions);
 }
 
+void MultiresSolver::add_vertex_frame_detail(Vec3* out) const {
+  update_ring_normals();
+  const double* b = base_.data();
+  const double* r1 = ring_normal_.data();
+  const Code* codes = codes_.data();
+  const int* glob = local_global_.data();
+  parallel_for(n_free_, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (auto i = static_cast<int>(lo); i < static_cast<int>(hi); ++i) {
+      const Code& c = codes[i];
+      const Vec3 center = Map3(b + 3 * i);
+      if (c.corner[1] < 0) {
+        out[glob[i]] = center + Vec3(c.w[0], c.w[1], c.w[2]);
+        continue;
+      }
+      const Vec3 n = ring_average(r1, i), t = frame_tangent(i, n);
+      out[glob[i]] = center + c.w[0] * t + c.w[1] * n.cross(t) + c.w[2] * n;
+    }
+  });
+}
+
 void MultiresSolver::add_detail(VertexData<Vec3>& positions) const {
   const auto t1 = Clock::now();
+  if (vertex_frames_) {
+    Vec3* out = positions.raw().data();
+    add_vertex_frame_detail(out);
+    for (int l = n_free_; l < n_moving_; ++l) out[local_global_[static_cast<std::size_t>(l)]] = base_.row(l).transpose();
+    flattened_ = 0;
+    timings_.detail_ms = ms_since(t1);
+    return;
+  }
   update_normals();
   const double* b = base_.data();
   const double* nn = normal_.data();

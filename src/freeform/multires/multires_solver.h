@@ -5,7 +5,10 @@
 // support and its first ring, and every free vertex is rebuilt from its encoding.
 //
 // Encodings (docs/multires.md):
-//  - normal displacement: base triangle t = (a, b, c), barycentrics (u, v, w), signed height h
+//  - vertex frame (the linear model's): the detail vector of free vertex i in a frame at base
+//    vertex i (the base normal and a tangent turned with the ring, vertex_frame.h), over the
+//    paper's base, the BCM solution on the detailed mesh;
+//  - normal displacement (the nonlinear model's, over a base on the smooth operator shape): base triangle t = (a, b, c), barycentrics (u, v, w), signed height h
 //    with x = sum_corner bary * (corner + h * corner_normal); found by the cubic of section 6
 //    over the faces around the vertex (growing rings), smallest |h| wins;
 //  - local frame (fallback where no triangle qualifies): offset in the frame (e, n x e, n) at
@@ -18,6 +21,7 @@
 #include "freeform/common/progress.h"
 #include "freeform/mesh/mesh.h"
 #include "freeform/multires/operator_shape.h"
+#include "freeform/multires/vertex_frame.h"
 #include "freeform/nonlinear/nonlinear_solver.h"
 #include "freeform/regions/regions.h"
 
@@ -26,6 +30,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -36,10 +41,13 @@
 namespace freeform {
 
 struct MultiresOptions {
+  // Automatic: VertexFrame for the linear base, Normal for the nonlinear one.
+  // VertexFrame: each free vertex's detail in a frame at its own base vertex, over the BCM base
+  // on the detailed mesh (the paper's); the others use the smooth operator shape (operator_shape.h).
   // Normal: normal displacement where a triangle qualifies, local frame elsewhere.
   // LocalFrame: local frame for every vertex (cheaper, rotates detail with the base normal only).
-  enum class Encoding { Normal, LocalFrame };
-  Encoding encoding = Encoding::Normal;
+  enum class Encoding { Automatic, VertexFrame, Normal, LocalFrame };
+  Encoding encoding = Encoding::Automatic;
   int search_rings = 3;  // candidate faces: around vertices within 0..this-1 rings of the nearest base vertex
   double barycentric_tolerance = 1e-4;   // a root counts if every barycentric >= -tolerance
   // Set: the base follows the nonlinear model (nonlinear/nonlinear_solver.h) instead of the
@@ -52,10 +60,13 @@ struct MultiresStats {
   int free = 0;                 // encoded vertices (= BCM free vertices)
   int normal_encoded = 0;       // vertices with a normal displacement
   int fallback = 0;             // vertices with the local-frame fallback
+  int vertex_frames = 0;        // vertices encoded in the frame of their own base vertex
   double max_height = 0;        // max |h| of the normal displacements (mesh units)
   int rest_folded = 0;          // encodings already folded at rest (det of the offset map <= 0)
   // The base's operator (operator_shape.h): on the smooth foot-point shape, or (false) on the
-  // detailed mesh with the reason; the foot-point shape's wall time (a k = 1 factorization).
+  // detailed mesh, with the reason where the shape was wanted but could not be used (empty for
+  // vertex frames: they use the detailed mesh's operator by design); the foot-point shape's wall
+  // time (a k = 1 factorization).
   bool smooth_operator = false;
   std::string operator_fallback;
   double operator_shape_ms = 0;
@@ -156,6 +167,13 @@ class MultiresSolver {
   std::vector<int> normal_faces_;          // local faces around them (rows of fnormal_)
   std::vector<int> vf_offset_, vf_faces_;  // CSR: rows of fnormal_ around normal_vertices_[k]
   std::vector<Code> codes_;                // per free vertex
+  bool vertex_frames_ = false;             // codes_ hold vertex-frame coordinates (w; corner[0] = i)
+  // Vertex frames (multires/vertex_frame.h): rings (CSR over local vertices, empty outside
+  // smoothed_vertices_ = the free vertices and their neighbours), the free vertices' rings' rest
+  // 2D coordinates, and the workspace of the normals averaged over one ring (update_ring_normals).
+  std::vector<int> ring_offset_, ring_, smoothed_vertices_;
+  std::vector<double> ring_weight_;
+  mutable RowMatrixX3d ring_normal_;
   // Per free vertex: det / a0 along the height ray may not fall below this (multires::safe_height),
   // a fixed fraction of its rest value so the rest never flattens; -inf: never flattened.
   std::vector<double> min_ratio_;
@@ -174,9 +192,16 @@ class MultiresSolver {
   void update_base(std::span<const Eigen::Affine3d> transforms, Base source,
                    const Eigen::Ref<const RowMatrixX3d>* given = nullptr, const Progress& progress = {}) const;
   void add_detail(VertexData<Vec3>& positions) const;
+  void add_vertex_frame_detail(Vec3* out) const;
+  void encode_vertex_frames(const Mesh& mesh, const VertexData<int>& local,
+                            const std::function<void(const std::vector<char>&)>& set_normal_vertices);
+  void update_ring_normals() const;
+  Vec3 ring_average(const double* unit, int l) const;  // of unit vectors (rows) over l and its ring
+  Vec3 frame_tangent(int i, const Vec3& n) const;  // of free vertex i on the current base
   // Rebuilds free vertex i with its height lowered by multires::safe_height; 1 if it was lowered.
   int flatten_detail(int i, Vec3* out) const;
   void update_normals() const;
+  void update_face_normals() const;
   Vec3 base_face_normal(int f) const;  // of local face f on the current base, area weighted
 };
 

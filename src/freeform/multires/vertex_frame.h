@@ -1,0 +1,44 @@
+// The frame at a base vertex that carries that vertex's own detail (docs/multires.md, "Vertex
+// frames"). Its normal is the base's vertex normals averaged over two rings (multires_solver.cpp);
+// its tangent is read from the vertex's ring: with (x_j, y_j) the ring's rest 2D coordinates in
+// the rest tangent plane (stencil_weights) and e_j the ring's offsets on the current base,
+//     g = sum_j x_j e_j,   h = sum_j y_j e_j
+// span the least-squares linear map from the rest tangent plane to the current base, and
+// P g - n x h (P: projection onto the tangent plane) is the image of the rest x axis under that
+// map's rotation part (the 2D Procrustes rotation). That follows twists about the normal as well
+// as bends, is exact for rigid motions, and gives the rest frame at rest, so the identity edit
+// reproduces the input to rounding.
+#pragma once
+
+#include "freeform/mesh/types.h"
+
+#include <cmath>
+
+namespace freeform::multires {
+
+// Writes the stencil's weights (x_j, y_j) in the rest tangent plane of unit normal n at
+// `center`, the x axis along the first stencil vertex's projected offset (any tangent where
+// that vanishes). position(j) returns stencil vertex j's rest base position.
+template <class Position>
+void stencil_weights(const Vec3& center, const Vec3& n, int count, Position position, double* weights) {
+  Vec3 u = count > 0 ? Vec3(position(0) - center) : Vec3::Zero();
+  u -= u.dot(n) * n;
+  const double len = u.norm();
+  u = len > 0.0 ? Vec3(u / len) : n.unitOrthogonal();
+  const Vec3 v = n.cross(u);
+  for (int j = 0; j < count; ++j) {
+    const Vec3 e = position(j) - center;
+    weights[2 * j] = e.dot(u);
+    weights[2 * j + 1] = e.dot(v);
+  }
+}
+
+// The tangent: the image of the rest x axis under the Procrustes rotation of the map from the
+// rest tangent plane to the current base, P g - n x h, normalized (zero if the ring collapsed).
+inline Vec3 tangent_from_moments(const Vec3& g, const Vec3& h, const Vec3& n) {
+  const Vec3 t = g - g.dot(n) * n - n.cross(h);
+  const double tt = t.squaredNorm();
+  return tt > 0.0 ? Vec3(t / std::sqrt(tt)) : Vec3::Zero();
+}
+
+}  // namespace freeform::multires
