@@ -4,8 +4,11 @@
 // run. Per case and method: folded edges, collapsed faces (smallest singular value of the face's
 // deformation gradient < 0.5), min sigma, the largest dihedral increase, the volume ratio
 // (closed meshes), iterations, converged, time. JSON on stdout, a summary table on stderr.
-//   bench_gallery [--quick] [--no-peer] [--out DIR] [--peer-iterations N] [--seed S]
+//   bench_gallery [--quick] [--no-peer] [--out DIR] [--peer-iterations N] [--seed S] [--linear-multires]
 // --out writes each case's rest and deformed meshes (OFF) for scripts/gallery.sh's contact sheet.
+// --linear-multires: the linear model's multiresolution instead, both encodings (vertex frames,
+// normal displacement) on the same cases with their rotations scaled to a third (edits linear
+// BCM is made for), judged by the same counts plus the detail heights against the BCM base.
 #include "bench_meshes.h"
 #include "build_paths.h"
 #include "nonlinear/gallery_cases.h"
@@ -14,6 +17,7 @@
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/folds.h"
 #include "freeform/mesh/generators.h"
+#include "freeform/multires/multires_solver.h"
 
 #include <nlohmann/json.hpp>
 
@@ -23,6 +27,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <algorithm>
 #include <map>
 #include <numbers>
 #include <string>
@@ -140,6 +145,7 @@ struct Options {
   std::string out;
   int peer_iterations = 2000;
   unsigned seed = 37;
+  bool linear_multires = false;
 };
 
 Options parse(int argc, char** argv) {
@@ -160,6 +166,8 @@ Options parse(int argc, char** argv) {
       o.peer_iterations = std::stoi(value());
     else if (a == "--seed")
       o.seed = static_cast<unsigned>(std::stoul(value()));
+    else if (a == "--linear-multires")
+      o.linear_multires = true;
     else
       throw std::runtime_error("unknown option " + a);
   }
@@ -205,10 +213,96 @@ std::vector<Shape> gallery(const Options& o) {
   return cases;
 }
 
+// A third of the transform's rotation angle and of its translation.
+Eigen::Affine3d moderate(const Eigen::Affine3d& t) {
+  const Eigen::AngleAxisd r(t.linear());
+  Eigen::Affine3d out = Eigen::Affine3d::Identity();
+  out.linear() = Eigen::AngleAxisd(r.angle() / 3.0, r.axis()).toRotationMatrix();
+  out.translation() = t.translation() / 3.0;
+  return out;
+}
+
+// Heights along the area-weighted vertex normals of `base` (free vertices of `regions`).
+std::vector<double> detail_heights(const Mesh& m, const Regions& regions, const VertexData<Vec3>& x,
+                                   const VertexData<Vec3>& base) {
+  VertexData<Vec3> n(static_cast<std::size_t>(m.n_vertices()), Vec3::Zero());
+  for (Face f : m.faces()) {
+    const auto v = m.vertices(f);
+    const Vec3 fn = (base[v[1]] - base[v[0]]).cross(base[v[2]] - base[v[0]]);
+    for (Vertex w : v) n[w] += fn;
+  }
+  std::vector<double> h;
+  for (Vertex v : regions.free_vertices()) h.push_back((x[v] - base[v]).dot(n[v].normalized()));
+  return h;
+}
+
+// The linear model's multiresolution with one encoding: the counts of quality(), and the height
+// errors of the tall detail (|h| above half its largest) against the BCM base (multiresolution
+// off), median and max.
+nlohmann::json run_linear_multires(const Shape& shape, int order, MultiresOptions::Encoding encoding, bool closed) {
+  Shape s = shape;
+  s.edit.settings.order = order;
+  s.edit.multiresolution = false;
+  const bool frames = encoding == MultiresOptions::Encoding::VertexFrame;
+  nlohmann::json j = {{"method", std::string(frames ? "vertex frames" : "normal displacement") + " k" + std::to_string(order)}};
+  try {
+    const EditSolver plain(s.mesh, s.edit);
+    const std::vector<Eigen::Affine3d> transforms = plain.transforms(s.edit);
+    MultiresOptions options;
+    options.encoding = encoding;
+    const MultiresSolver solver(s.mesh, plain.regions(), s.edit.settings, options);
+    VertexData<Vec3> p = s.mesh.positions(), base0 = s.mesh.positions(), base1 = s.mesh.positions();
+    solver.evaluate(transforms, p);
+    plain.evaluate(std::vector<Eigen::Affine3d>(transforms.size(), Eigen::Affine3d::Identity()), base0);
+    plain.evaluate(transforms, base1);
+    const std::vector<double> h0 = detail_heights(s.mesh, plain.regions(), s.mesh.positions(), base0);
+    const std::vector<double> h1 = detail_heights(s.mesh, plain.regions(), p, base1);
+    double tallest = 0;
+    for (double h : h0) tallest = std::max(tallest, std::abs(h));
+    std::vector<double> err;
+    for (std::size_t i = 0; i < h0.size(); ++i)
+      if (std::abs(h0[i]) > 0.5 * tallest) err.push_back(std::abs(h1[i] - h0[i]) / std::abs(h0[i]));
+    std::sort(err.begin(), err.end());
+    j["height_error_median"] = err.empty() ? 0.0 : err[err.size() / 2];
+    j["height_error_max"] = err.empty() ? 0.0 : err.back();
+    j["flipped"] = solver.problems(p).flipped;
+    j["smooth_operator"] = solver.stats().smooth_operator;
+    j["operator_fallback"] = solver.stats().operator_fallback;
+    j.update(quality(s, p, closed));
+  } catch (const std::exception& e) {
+    j["error"] = e.what();
+  }
+  return j;
+}
+
+int linear_multires_gallery(const Options& o) {
+  nlohmann::json out = nlohmann::json::array();
+  for (Shape s : gallery(o)) {
+    for (EditHandle& h : s.edit.handles)
+      if (h.matrix) h.matrix = moderate(*h.matrix);
+    const bool closed = is_closed(s.mesh);
+    nlohmann::json runs = nlohmann::json::array();
+    for (int k : {2, 3})
+      for (auto e : {MultiresOptions::Encoding::VertexFrame, MultiresOptions::Encoding::Normal})
+        runs.push_back(run_linear_multires(s, k, e, closed));
+    std::fprintf(stderr, "%-34s", s.name.c_str());
+    for (const nlohmann::json& r : runs)
+      if (r.contains("error"))
+        std::fprintf(stderr, " | error");
+      else
+        std::fprintf(stderr, " | %4d %5.1f%%", r["folded_edges"].get<int>(), 100 * r["height_error_max"].get<double>());
+    std::fprintf(stderr, "\n");
+    out.push_back({{"case", s.name}, {"runs", runs}});
+  }
+  std::cout << out.dump(1) << "\n";
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) try {
   const Options o = parse(argc, argv);
+  if (o.linear_multires) return linear_multires_gallery(o);
   std::vector<Config> configs = {{"k2", 2, true, false},
                                  {"k3", 3, true, false},
                                  {"k2 multires off", 2, false, false},

@@ -404,7 +404,11 @@ INSTANTIATE_TEST_SUITE_P(Encodings, FandiskFeatures,
 // and tilted by 20 degrees. Heights as the paper defines detail: the offset along the area
 // weighted vertex normal of the BCM base, solved here by a separate BcmSolver (not the
 // multiresolution code), before and after; judged on the tall detail (|h| above half its max).
-TEST(Multires, ArmadilloBackPlatesKeepTheirHeightOnThePapersBase) {
+// The plates overhang their fair base in places, so the default encoding is normal displacement
+// (measured: median 0.08 %, max 1.81 %); vertex frames forced: 0.06 % / 1.33 %.
+class ArmadilloBackPlates : public ::testing::TestWithParam<MultiresOptions::Encoding> {};
+
+TEST_P(ArmadilloBackPlates, KeepTheirHeightOnThePapersBase) {
   FREEFORM_REQUIRE_CGAL_MESHES();
   const Mesh mesh = load("armadillo.off");
   const Vec3 centre(-2.5, 30.9, 33.4);
@@ -417,7 +421,10 @@ TEST(Multires, ArmadilloBackPlatesKeepTheirHeightOnThePapersBase) {
   }
   const Regions regions(mesh, support, {handle});
   BcmSettings settings;
-  const MultiresSolver solver(mesh, regions, settings);
+  MultiresOptions options;
+  options.encoding = GetParam();
+  const MultiresSolver solver(mesh, regions, settings, options);
+  EXPECT_FALSE(solver.stats().smooth_operator);  // the paper's base either way
   const BcmSolver plain(mesh, regions, settings);
   const Vec3 pivot = plain.handle_centroid(0);
   const Eigen::Affine3d edit = Eigen::Translation3d(pivot + Vec3(0, 4, 10)) *
@@ -441,6 +448,12 @@ TEST(Multires, ArmadilloBackPlatesKeepTheirHeightOnThePapersBase) {
   EXPECT_LE(errors.back(), 0.05);
   EXPECT_EQ(pr.flipped, 0);
 }
+
+INSTANTIATE_TEST_SUITE_P(Encodings, ArmadilloBackPlates,
+                         ::testing::Values(MultiresOptions::Encoding::Automatic, MultiresOptions::Encoding::VertexFrame),
+                         [](const ::testing::TestParamInfo<MultiresOptions::Encoding>& p) {
+                           return p.param == MultiresOptions::Encoding::VertexFrame ? "VertexFrames" : "Automatic";
+                         });
 
 // The fallback where it happens on a real mesh: fandisk (sharp features). Fallback vertices lie
 // near the support boundary or on features (high curvature), and they follow the edit like
@@ -518,8 +531,10 @@ TEST(Multires, EveryEncodingFollowsARigidMotionExactly) {
   const std::vector<bool> fb = solver.fallback_mask();
   const auto& free = solver.bcm().free_vertices();
   const double diag = diagonal(mesh);
-  {  // vertex frames (the default): every vertex in the frame of its own base vertex
-    const MultiresSolver frames(mesh, regions, BcmSettings{});
+  {  // vertex frames: every vertex in the frame of its own base vertex
+    MultiresOptions vertex_frames;
+    vertex_frames.encoding = MultiresOptions::Encoding::VertexFrame;
+    const MultiresSolver frames(mesh, regions, BcmSettings{}, vertex_frames);
     ASSERT_EQ(frames.stats().vertex_frames, frames.stats().free);
     VertexData<Vec3> y = mesh.positions();
     frames.evaluate(identity(1), y);

@@ -72,10 +72,10 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
     if (v.idx() >= 0 && v.idx() < mesh.n_vertices() && !mesh.halfedge(v).is_valid()) ++stats_.isolated_ignored;
   // The BCM system's ordering runs on another thread during the operator shape (bcm_analysis.h).
   BcmAnalysis analysis(mesh, regions_, edit.settings);
-  // The linear model's detail rides on the paper's base (the detailed mesh's operator, vertex
-  // frames); the nonlinear model's on the smooth foot-point shape (multires_solver.h).
+  // The smooth foot-point shape: the nonlinear model's base operator, and for both models what
+  // says whether the detail stands on its base (multires_solver.h, MultiresOptions::Encoding).
   std::optional<OperatorShape> shape;
-  if (edit.multiresolution) shape = nonlinear ? base_operator_shape(mesh, regions_, edit.settings, progress) : OperatorShape{};
+  if (edit.multiresolution) shape = base_operator_shape(mesh, regions_, edit.settings, progress);
   // Detail that overhangs its base (an ear, fingers, a snout) does not ride on the base's
   // normals through a large rotation: re-added along the turned normals it tore (the bunny's
   // ear twisted 90 degrees: 446 folded edges, 0 without the decomposition). The nonlinear

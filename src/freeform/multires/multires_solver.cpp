@@ -43,16 +43,20 @@ const MultiresOptions& validated(const MultiresOptions& o) {
   return o;
 }
 
-MultiresOptions::Encoding resolved(const MultiresOptions& o) {
+// Automatic: vertex frames over the paper's base where the detail stands on its base (the
+// smooth foot-point shape exists: no overhang, not a tube, not anisotropic), normal displacement
+// elsewhere (docs/multires.md, "Which encoding"). The nonlinear base always uses normal
+// displacement over the smooth shape where it exists.
+MultiresOptions::Encoding resolved(const MultiresOptions& o, const OperatorShape& shape) {
   if (o.encoding != MultiresOptions::Encoding::Automatic) return o.encoding;
-  return o.nonlinear ? MultiresOptions::Encoding::Normal : MultiresOptions::Encoding::VertexFrame;
+  if (o.nonlinear) return MultiresOptions::Encoding::Normal;
+  return shape.positions.size() > 0 ? MultiresOptions::Encoding::VertexFrame : MultiresOptions::Encoding::Normal;
 }
 
-// The base's operator: vertex frames carry detail over the paper's base (the detailed mesh's
-// operator); the other encodings need the smooth foot-point shape (docs/multires.md).
+// The smooth shape: the base's operator for normal displacement, and what decides Automatic.
 OperatorShape wanted_shape(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                            const MultiresOptions& options, const Progress& progress) {
-  if (resolved(options) == MultiresOptions::Encoding::VertexFrame) return {};
+  if (options.encoding == MultiresOptions::Encoding::VertexFrame) return {};
   return base_operator_shape(mesh, regions, settings, progress);
 }
 
@@ -66,12 +70,12 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
                                const MultiresOptions& options, const Progress& progress, const OperatorShape& shape,
                                BcmAnalysis* analysis)
     : bcm_(mesh, regions, settings, progress,
-           resolved(validated(options)) != MultiresOptions::Encoding::VertexFrame && shape.positions.size() > 0
+           resolved(validated(options), shape) != MultiresOptions::Encoding::VertexFrame && shape.positions.size() > 0
                ? &shape.positions
                : nullptr,
            options.nonlinear.has_value(), RowOrder::BreadthFirst, analysis),
       n_vertices_(mesh.n_vertices()),
-      vertex_frames_(resolved(options) == MultiresOptions::Encoding::VertexFrame) {
+      vertex_frames_(resolved(options, shape) == MultiresOptions::Encoding::VertexFrame) {
   stats_.smooth_operator = shape.positions.size() > 0 && !vertex_frames_;
   stats_.operator_fallback = shape.fallback;
   stats_.operator_shape_ms = shape.ms;
@@ -174,7 +178,7 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
   const double* B = base_.data();
   const double* N = normal_.data();
   const double tol = options.barycentric_tolerance;
-  const bool normal_encoding = resolved(options) == MultiresOptions::Encoding::Normal;
+  const bool normal_encoding = resolved(options, shape) == MultiresOptions::Encoding::Normal;
   // The search walks local indices (compact, free vertices first in breadth-first order)
   // instead of the mesh's: at 1M free most of its time was cache misses on #V-sized arrays.
   // Per local vertex within rings + 1 rings of the free set, in mesh.outgoing order: the

@@ -5,10 +5,10 @@
 // support and its first ring, and every free vertex is rebuilt from its encoding.
 //
 // Encodings (docs/multires.md):
-//  - vertex frame (the linear model's): the detail vector of free vertex i in a frame at base
-//    vertex i (the base normal and a tangent turned with the ring, vertex_frame.h), over the
-//    paper's base, the BCM solution on the detailed mesh;
-//  - normal displacement (the nonlinear model's, over a base on the smooth operator shape): base triangle t = (a, b, c), barycentrics (u, v, w), signed height h
+//  - vertex frame (the linear model's where the detail stands on its base): the detail vector of
+//    free vertex i in a frame at base vertex i (vertex_frame.h), over the paper's base, the BCM
+//    solution on the detailed mesh;
+//  - normal displacement (elsewhere, and the nonlinear model's over the smooth operator shape): base triangle t = (a, b, c), barycentrics (u, v, w), signed height h
 //    with x = sum_corner bary * (corner + h * corner_normal); found by the cubic of section 6
 //    over the faces around the vertex (growing rings), smallest |h| wins;
 //  - local frame (fallback where no triangle qualifies): offset in the frame (e, n x e, n) at
@@ -41,9 +41,11 @@
 namespace freeform {
 
 struct MultiresOptions {
-  // Automatic: VertexFrame for the linear base, Normal for the nonlinear one.
+  // Automatic: for the linear base VertexFrame where the detail stands on its base (the smooth
+  // operator shape exists, operator_shape.h), else Normal over the detailed mesh's operator; for
+  // the nonlinear base Normal over the smooth shape where it exists.
   // VertexFrame: each free vertex's detail in a frame at its own base vertex, over the BCM base
-  // on the detailed mesh (the paper's); the others use the smooth operator shape (operator_shape.h).
+  // on the detailed mesh (the paper's).
   // Normal: normal displacement where a triangle qualifies, local frame elsewhere.
   // LocalFrame: local frame for every vertex (cheaper, rotates detail with the base normal only).
   enum class Encoding { Automatic, VertexFrame, Normal, LocalFrame };
