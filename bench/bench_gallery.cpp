@@ -275,11 +275,50 @@ nlohmann::json run_linear_multires(const Shape& shape, int order, MultiresOption
   return j;
 }
 
+// Patches of the surface away from the extremities: a geodesic ball of 12 % of the diagonal
+// around a random vertex, its inner third lifted along the vertex normal by a quarter of the
+// radius, or tilted by 25 degrees about a tangent through the handle's centre.
+std::vector<Shape> patch_cases(const std::string& name, const Mesh& mesh, std::mt19937& rng) {
+  Eigen::AlignedBox3d box;
+  for (Vertex v : mesh.vertices()) box.extend(mesh.position(v));
+  const double radius = 0.12 * box.diagonal().norm();
+  std::uniform_int_distribution<int> pick(0, mesh.n_vertices() - 1);
+  std::vector<Shape> out;
+  for (int k = 0; k < 3; ++k) {
+    const Vertex seed(pick(rng));
+    const std::optional<test::Limb> l = test::limb(mesh, seed, radius);
+    if (!l) continue;
+    Vec3 n = Vec3::Zero();
+    for (Halfedge h : mesh.outgoing(seed))
+      if (mesh.face(h).is_valid()) {
+        const auto v = mesh.vertices(mesh.face(h));
+        n += (mesh.position(v[1]) - mesh.position(v[0])).cross(mesh.position(v[2]) - mesh.position(v[0]));
+      }
+    if (!(n.norm() > 0)) continue;
+    n.normalize();
+    const std::string stem = name + "-patch" + std::to_string(seed.idx());
+    out.push_back(test::limb_case(stem + "-lift", mesh, {&*l},
+                                  {Eigen::Affine3d(Eigen::Translation3d(0.25 * radius * n))}));
+    out.push_back(test::limb_case(stem + "-tilt25", mesh, {&*l}, {test::rotation_about(l->tip, 25, n.unitOrthogonal())}));
+  }
+  return out;
+}
+
 int linear_multires_gallery(const Options& o) {
   nlohmann::json out = nlohmann::json::array();
-  for (Shape s : gallery(o)) {
+  std::vector<Shape> cases = gallery(o);
+  for (Shape& s : cases)
     for (EditHandle& h : s.edit.handles)
       if (h.matrix) h.matrix = moderate(*h.matrix);
+  std::mt19937 rng(o.seed);
+  for (const char* name : {"armadillo", "bunny00", "elephant", "camel", "cow", "dino", "hand", "triceratops", "man",
+                           "elk", "homer", "fandisk", "rockerarm", "blobby", "pig"}) {
+    const std::filesystem::path file = freeform::bench::mesh_dir() / (std::string(name) + ".off");
+    if (!std::filesystem::exists(file)) continue;
+    const Mesh mesh = Mesh::from_soup(read_mesh(file.string()).soup);
+    for (Shape& s : patch_cases(name, mesh, rng)) cases.push_back(std::move(s));
+  }
+  for (Shape s : cases) {
     const bool closed = is_closed(s.mesh);
     nlohmann::json runs = nlohmann::json::array();
     for (int k : {2, 3})
