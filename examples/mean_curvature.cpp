@@ -1,5 +1,5 @@
 // Example: load a mesh and print the range of its discrete mean curvature
-// |Lap(x)| / 2 = |D L x| / 2 (DESIGN.md section 2). Usage: mean_curvature MESH
+// |Lap(x)| / 2 = |D L x| / 2 (docs/operators.md). Usage: mean_curvature MESH
 #include "freeform/common/error.h"
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/mesh.h"

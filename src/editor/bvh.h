@@ -1,5 +1,5 @@
 // Bounding volume hierarchy over a mesh's triangles for CPU ray casts (picking and the
-// visibility of painted vertices, STYLE.md 8). A linear BVH: triangles sorted along a Morton
+// visibility of painted vertices, no GL, testable without a window). A linear BVH: triangles sorted along a Morton
 // curve (radix sort) and split at spatial medians into a flat node array, <= 2 triangles per
 // leaf; refit() updates the boxes in O(n) after every deformation frame (same topology).
 // (A binned-SAH build traced rays within ~10% of it but built 2-3x slower.)

@@ -1,4 +1,4 @@
-// Screen-space picking of the displayed surface (GL-free, STYLE.md 8): the vertices under a
+// Screen-space picking of the displayed surface (GL-free, testable without a window): the vertices under a
 // brush circle or inside a lasso, and the surface point under the cursor. Only visible
 // vertices are selected; visibility is decided by CPU ray casts against a Bvh.
 //

@@ -1,4 +1,4 @@
-// Anisotropic bending (DESIGN.md section 5, param/anisotropic.h, BcmSettings::anisotropic,
+// Anisotropic bending (docs/anisotropic.md, param/anisotropic.h, BcmSettings::anisotropic,
 // deform() with the anisotropic setting):
 // a long thin support is bent across its whole boundary, the solution is radially symmetric
 // in the equalized parameter domain, a round support is unaffected, and the fallbacks are

@@ -1,5 +1,5 @@
 // An independent reference for the order-k BCM solve at any size (issue 13), written from
-// DESIGN.md section 3 with none of the library's assembly or solvers: the global cotangent
+// docs/bcm.md with none of the library's assembly or solvers: the global cotangent
 // Laplacian and mixed areas (operators.h), the intermediate Laplacians as unknowns of their own
 // (the mixed form, so no block is worse conditioned than a Laplacian), Eigen's SparseLU (the
 // library factors the assembled product with CHOLMOD or UMFPACK) and two steps of iterative

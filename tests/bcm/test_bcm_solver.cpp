@@ -1,4 +1,4 @@
-// BcmSolver invariants (DESIGN.md section 4): basis == direct solve, partition of unity,
+// BcmSolver invariants (docs/bcm.md): basis == direct solve, partition of unity,
 // identity reproduction, linear precision, solver choice, what evaluate() writes.
 #include "bcm_fixtures.h"
 

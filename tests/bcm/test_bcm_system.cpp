@@ -1,5 +1,5 @@
 // Settings, the lambda blend, local assembly against the global operators, the sparse solver
-// wrapper and the errors a user can cause (DESIGN.md sections 2-3).
+// wrapper and the errors a user can cause (docs/operators.md, docs/bcm.md).
 #include "bcm_fixtures.h"
 
 #include "freeform/common/error.h"

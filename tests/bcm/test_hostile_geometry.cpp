@@ -69,7 +69,7 @@ TEST(HostileGeometry, CoincidentVerticesGiveAnErrorNamingTheTriangles) {
 }
 
 // Four vertices of one grid quad moved onto each other inside the support: their triangles are
-// degenerate (clamped and reported, DESIGN.md section 2) and the solve stays finite.
+// degenerate (clamped and reported, docs/operators.md) and the solve stays finite.
 TEST(HostileGeometry, CoincidentVerticesInsideTheSupportAreReported) {
   TriangleSoup soup = make_plane(10, 10);
   for (int k : {5 * 11 + 3, 5 * 11 + 4, 4 * 11 + 3, 4 * 11 + 4}) soup.positions[static_cast<std::size_t>(k)] = soup.positions[5 * 11 + 3];

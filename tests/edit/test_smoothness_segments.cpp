@@ -1,5 +1,5 @@
 // Piecewise boundary smoothness (issue 15): "smoothness.segments" in edit files, checked
-// against the DESIGN.md formula on the GLOBAL operators (bcm/bcm_fixtures.h: cotan Laplacian
+// against the formula of docs/bcm.md on the GLOBAL operators (bcm/bcm_fixtures.h: cotan Laplacian
 // and mixed areas of the whole mesh, Eigen SparseLU), not the library's local assembly.
 #include "bcm/bcm_fixtures.h"
 #include "freeform/bcm/boundary_band.h"

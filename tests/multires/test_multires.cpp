@@ -1,4 +1,4 @@
-// Multiresolution editing (DESIGN.md section 6, docs/multires.md): exact reproduction with the
+// Multiresolution editing (docs/multires.md): exact reproduction with the
 // identity manipulator on real meshes for both encodings, detail preservation on a bumpy plane
 // (against plain BCM), sharp features on fandisk, the fallback, problem detection.
 #include "freeform/multires/multires_solver.h"

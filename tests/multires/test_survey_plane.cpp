@@ -1,4 +1,4 @@
-// The bumpy-plane test of Botsch & Sorkine's deformation survey (DESIGN.md section 9), rebuilt
+// The bumpy-plane test of Botsch & Sorkine's deformation survey (docs/multires.md), rebuilt
 // from its description: a 201 x 201 grid on a 100 x 100 square with 13 smooth bumps 10 units
 // tall, the strip x <= 20 fixed, the far strip x >= 80 translated by (-32, 0, 57) so the plane
 // bends into an S. Judged per edge and per bump against independent measurements: folded

@@ -1,4 +1,4 @@
-// Reference 3 (docs/references.md): continuous boundary smoothness c (DESIGN.md section 3).
+// Reference 3 (docs/references.md): continuous boundary smoothness c (docs/bcm.md).
 // Planar annulus, handle = the k innermost circles lifted by h, support boundary near r = 1,
 // flat fixed surface outside. The radial slope jump across the outer support boundary
 //   jump = |slope(last free circle -> first fixed circle) - slope(first -> second fixed circle)|

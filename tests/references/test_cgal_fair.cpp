@@ -4,7 +4,7 @@
 // CGAL fair solves Lap^k(x)_i = 0 for the vertices it is given, with
 //   Lap(x)_i = 1/(2 A_i) sum_j (cot a_ij + cot b_ij)(x_j - x_i),  A_i = mixed Voronoi area,
 // every other vertex fixed and every intermediate Laplacian at full weight. That is the BCM
-// system with lambda = 1 everywhere (DESIGN.md section 3). Differences that remain: CGAL clamps
+// system with lambda = 1 everywhere (docs/bcm.md). Differences that remain: CGAL clamps
 // cos to [-0.999, 0.999] (|cot| <= 22.3) while we clamp |cot| at 1e5, so patches are chosen
 // without such angles and the count is printed.
 //

@@ -1,5 +1,5 @@
 // BcmSolver: one factorization, 3 + 4M solves, then per frame p = P_const + B G
-// (DESIGN.md section 4).
+// (docs/bcm.md).
 #include "freeform/bcm/bcm_solver.h"
 
 #include "freeform/bcm/bcm_system.h"
@@ -144,7 +144,7 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   std::optional<BcmAnalysis> own_analysis;  // ordering the pattern on another thread meanwhile
   if (!analysis) analysis = &own_analysis.emplace(mesh, regions, settings);
   // Anisotropic bending: the operator's cotangents and areas come from the equalized
-  // conformal map of the support grown by k rings (DESIGN.md section 5).
+  // conformal map of the support grown by k rings (docs/anisotropic.md).
   AnisotropicDomain domain;
   if (settings.anisotropic) {
     std::vector<Vertex> support;

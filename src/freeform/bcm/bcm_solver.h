@@ -1,4 +1,4 @@
-// The precomputing BCM solver (DESIGN.md section 4): construct once (assemble + factor +
+// The precomputing BCM solver (docs/bcm.md): construct once (assemble + factor +
 // 3 + 4M solves), then evaluate(transforms) per frame as a dense product.
 //
 //   p = P_const + sum_m B_m T_m(F0_m)      P_const: P x 3, B_m: P x 4, F0_m: 4 x 3
@@ -47,7 +47,7 @@ struct BcmStats {
   double forward_error = 0;
   double unrefined_error = 0;  // the same measure of the first correction: the plain solve's error
   double refinement_ms = 0;
-  // DESIGN.md section 2 diagnostics of the assembled faces: degenerate ones (no weights, no
+  // docs/operators.md diagnostics of the assembled faces: degenerate ones (no weights, no
   // area) and cotangents clamped on needle-thin ones.
   int degenerate_faces = 0;
   int clamped_cotangents = 0;

@@ -1,4 +1,4 @@
-// Local assembly of the BCM system (DESIGN.md sections 2-3). Only the k-ring neighbourhood of
+// Local assembly of the BCM system (docs/operators.md, docs/bcm.md). Only the k-ring neighbourhood of
 // the free vertices is touched: cotangents and mixed areas on the faces incident to the
 // (k-1)-ring, then S_k = L Lam_{k-1} D L ... Lam_1 D L as sparse products on that patch.
 #include "freeform/bcm/bcm_system.h"

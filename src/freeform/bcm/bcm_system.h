@@ -1,4 +1,4 @@
-// Assembly of the BCM linear system (DESIGN.md section 3) on the k-ring neighbourhood of the
+// Assembly of the BCM linear system (docs/bcm.md) on the k-ring neighbourhood of the
 // free vertices only, so cost follows the support size, not the mesh size.
 //
 //   S_k = L * Lam_{k-1} D L * ... * Lam_1 D L          (rows of the free vertices)

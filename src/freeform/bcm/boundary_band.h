@@ -1,4 +1,4 @@
-// Where boundary smoothness acts (DESIGN.md section 3): the constrained vertices whose
+// Where boundary smoothness acts (docs/bcm.md): the constrained vertices whose
 // lambda weights enter the BCM rows, and the c of every vertex as the system uses it.
 #pragma once
 

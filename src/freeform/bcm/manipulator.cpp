@@ -1,4 +1,4 @@
-// 9-dof manipulators and checked affine maps (DESIGN.md section 4).
+// 9-dof manipulators and checked affine maps (docs/bcm.md).
 #include "freeform/bcm/manipulator.h"
 
 #include "freeform/common/error.h"

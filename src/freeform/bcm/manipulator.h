@@ -1,4 +1,4 @@
-// The 9-dof manipulator of a handle (DESIGN.md section 4): x' = pivot + R S (x - pivot) + t.
+// The 9-dof manipulator of a handle (docs/bcm.md): x' = pivot + R S (x - pivot) + t.
 // It is always applied to the original (rest) frame, never incrementally.
 #pragma once
 

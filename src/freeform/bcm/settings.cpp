@@ -1,4 +1,4 @@
-// Settings validation and the continuous boundary-smoothness blend (DESIGN.md section 3).
+// Settings validation and the continuous boundary-smoothness blend (docs/bcm.md).
 #include "freeform/bcm/settings.h"
 
 #include "freeform/common/error.h"

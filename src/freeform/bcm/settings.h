@@ -1,4 +1,4 @@
-// Parameters of a BCM edit (DESIGN.md sections 1 and 3).
+// Parameters of a BCM edit (docs/bcm.md).
 #pragma once
 
 #include "freeform/mesh/handles.h"
@@ -28,7 +28,7 @@ struct Smoothness {
 };
 
 // lambda_m(c) = clamp(c - m + 1, 0, 1): the weight of the level-m Laplacian at a stencil vertex
-// (DESIGN.md section 3, the continuous form that fixes the paper's typo).
+// (docs/bcm.md, the continuous form that fixes the paper's typo).
 double smoothness_lambda(double c, int m);
 
 struct BcmSettings {

@@ -1,4 +1,4 @@
-// Folded edges (DESIGN.md section 9): interior edges whose dihedral angle, the angle between
+// Folded edges (docs/multires.md, "Folded edges"): interior edges whose dihedral angle, the angle between
 // the normals of their two faces, grew by more than a threshold against the rest positions: a
 // tear, fold or crease an edit created. A face that collapsed to zero area folds its edges.
 #pragma once

@@ -1,4 +1,4 @@
-// Halfedge triangle mesh with double positions (STYLE.md 2).
+// Halfedge triangle mesh with double positions.
 //
 // Storage is flat arrays: halfedges 2e and 2e+1 form edge e and are each other's opposite.
 // Every halfedge has next/prev; mesh-boundary halfedges have no face and are linked around

@@ -1,5 +1,5 @@
 // MultiresSolver: decomposition (base + per-vertex encoding) once, reconstruction per frame
-// (DESIGN.md section 6, docs/multires.md).
+// (docs/multires.md).
 #include "freeform/multires/multires_solver.h"
 
 #include "freeform/common/error.h"

@@ -1,4 +1,4 @@
-// Multiresolution editing (DESIGN.md section 6; Botsch & Kobbelt 2004, section 5): the support
+// Multiresolution editing (docs/multires.md; Botsch & Kobbelt 2004, section 5): the support
 // is split into a smooth base (the BCM solution with unmoved handles, same k, smoothness,
 // anisotropy and regions) and detail encoded per free vertex relative to that base. Per frame
 // the base is rebuilt from the precomputed BCM basis, its vertex normals are recomputed in the

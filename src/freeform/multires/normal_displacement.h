@@ -1,4 +1,4 @@
-// The normal-displacement fit of DESIGN.md section 6 for one point and one base triangle.
+// The normal-displacement fit of docs/multires.md for one point and one base triangle.
 //
 // Triangle corners a, b, c with vertex normals na, nb, nc. The point x lies on the triangle
 // offset by h along the interpolated normals iff

@@ -1,4 +1,4 @@
-// A factored sparse square matrix, solved for many right-hand sides (STYLE.md: one wrapper
+// A factored sparse square matrix, solved for many right-hand sides (one wrapper
 // hides CHOLMOD / UMFPACK / Eigen). Symmetric positive definite -> CHOLMOD supernodal
 // Cholesky (fallback Eigen LDLT); unsymmetric -> UMFPACK (fallback Eigen SparseLU).
 #pragma once

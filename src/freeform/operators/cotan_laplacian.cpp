@@ -1,4 +1,4 @@
-// Cotangent Laplacian L (DESIGN.md section 2): L_ij = cot a_ij + cot b_ij, L_ii = -sum_j L_ij.
+// Cotangent Laplacian L (docs/operators.md): L_ij = cot a_ij + cot b_ij, L_ii = -sum_j L_ij.
 #include "freeform/common/error.h"
 #include "freeform/operators/face_geometry.h"
 #include "freeform/operators/operators.h"

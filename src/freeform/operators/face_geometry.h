@@ -1,5 +1,5 @@
 // Internal to freeform_operators: per-triangle cotangents, area and the degenerate-face policy
-// shared by the cotangent Laplacian and the mixed Voronoi areas (DESIGN.md section 2).
+// shared by the cotangent Laplacian and the mixed Voronoi areas (docs/operators.md).
 #pragma once
 
 #include "freeform/mesh/mesh.h"

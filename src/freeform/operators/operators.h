@@ -1,4 +1,4 @@
-// Discrete differential operators on triangle meshes (DESIGN.md section 2).
+// Discrete differential operators on triangle meshes (docs/operators.md).
 //
 // Lap(x)_i = 1/(2 A_i) * sum_j (cot a_ij + cot b_ij) (x_j - x_i) = (D L x)_i with
 //   L  #V by #V symmetric, L_ij = cot a_ij + cot b_ij (one cot for a mesh-boundary edge),

@@ -1,5 +1,5 @@
 // Anisotropic bending domain: grown support -> per component LSCM -> area-weighted principal
-// axes -> equal extents (DESIGN.md section 5).
+// axes -> equal extents (docs/anisotropic.md).
 #include "freeform/param/anisotropic.h"
 
 #include "freeform/common/error.h"

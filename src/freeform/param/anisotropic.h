@@ -1,4 +1,4 @@
-// The planar domain of anisotropic bending (DESIGN.md section 5): the support grown by k
+// The planar domain of anisotropic bending (docs/anisotropic.md): the support grown by k
 // rings, mapped conformally to the plane (LSCM), rotated to its area-weighted principal axes
 // and scaled so that both principal extents are equal. Cotangents and mixed areas computed on
 // these positions (z = 0) replace the 3D ones in the BCM operator (sections 2-3).

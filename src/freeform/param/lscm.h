@@ -1,5 +1,5 @@
 // Least squares conformal maps (Levy, Petitjean, Ray, Maillot 2002) of a triangle-mesh patch,
-// and the flip / distortion measures used to judge a parametrization (DESIGN.md section 5).
+// and the flip / distortion measures used to judge a parametrization (docs/anisotropic.md).
 //
 // Energy: sum over faces t of A_t |grad v - R90 grad u|^2 (the Cauchy-Riemann residual in a
 // local orthonormal frame of t, R90 = rotation by +90 degrees), minimised with two pinned

@@ -1,4 +1,4 @@
-// The regions of one edit (DESIGN.md section 1): the support, handle components inside it
+// The regions of one edit (docs/bcm.md): the support, handle components inside it
 // (movable with their own manipulator, or immovable), everything else fixed.
 #pragma once
 

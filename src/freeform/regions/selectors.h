@@ -1,4 +1,4 @@
-// Vertex selection for edit regions (DESIGN.md section 1): index lists, Euclidean spheres,
+// Vertex selection for edit regions (docs/bcm.md): index lists, Euclidean spheres,
 // geodesic disks (shortest edge paths) and .sel labels. Every selector returns sorted, unique
 // vertices and throws InvalidInput naming the selector (`name`, e.g. "handles[0].region") if
 // it selects nothing or is malformed.
