@@ -375,44 +375,26 @@ std::vector<bool> MultiresSolver::fallback_mask() const {
 
 void MultiresSolver::encode_vertex_frames(const Mesh& mesh, const VertexData<int>& local,
                                           const std::function<void(const std::vector<char>&)>& set_normal_vertices) {
-  // Rings (CSR over local vertices) of the free vertices and of their neighbours: the frames'
-  // normals average over both.
-  const int n_local = static_cast<int>(local_global_.size());
-  std::vector<char> smoothed(static_cast<std::size_t>(n_local), 0);
-  auto ring_of = [&](int l) {
-    std::vector<int> out;
-    for (Halfedge he : mesh.outgoing(Vertex(local_global_[static_cast<std::size_t>(l)]))) out.push_back(local[mesh.to_vertex(he)]);
-    return out;
-  };
-  for (int i = 0; i < n_free_; ++i) {
-    smoothed[static_cast<std::size_t>(i)] = 1;
-    for (int l : ring_of(i)) smoothed[static_cast<std::size_t>(l)] = 1;
-  }
+  // Per free vertex: its ring (local vertices) for the tangent; normals at the free vertices.
   ring_offset_.assign(1, 0);
   ring_.clear();
-  smoothed_vertices_.clear();
-  std::vector<char> needs_normal(static_cast<std::size_t>(n_local), 0);
-  for (int l = 0; l < n_local; ++l) {
-    if (smoothed[static_cast<std::size_t>(l)]) {
-      smoothed_vertices_.push_back(l);
-      needs_normal[static_cast<std::size_t>(l)] = 1;
-      for (int r : ring_of(l)) {
-        ring_.push_back(r);
-        needs_normal[static_cast<std::size_t>(r)] = 1;
-      }
-    }
+  for (int i = 0; i < n_free_; ++i) {
+    for (Halfedge he : mesh.outgoing(Vertex(local_global_[static_cast<std::size_t>(i)])))
+      ring_.push_back(local[mesh.to_vertex(he)]);
     ring_offset_.push_back(static_cast<int>(ring_.size()));
   }
-  set_normal_vertices(needs_normal);
-  ring_weight_.resize(2 * static_cast<std::size_t>(ring_offset_[static_cast<std::size_t>(n_free_)]));
-  ring_normal_.setZero(n_local, 3);
-  update_ring_normals();
+  std::vector<char> free_only(local_global_.size(), 0);
+  std::fill(free_only.begin(), free_only.begin() + n_free_, 1);
+  set_normal_vertices(free_only);
+  update_normals();  // the per-frame normals, here at rest
+  ring_weight_.resize(2 * ring_.size());
   const double* B = base_.data();
+  const double* N = normal_.data();
   parallel_for(n_free_, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
     for (auto i = static_cast<int>(lo); i < static_cast<int>(hi); ++i) {
       const int first = ring_offset_[static_cast<std::size_t>(i)];
       const int count = ring_offset_[static_cast<std::size_t>(i) + 1] - first;
-      const Vec3 center = Map3(B + 3 * i), n = ring_average(ring_normal_.data(), i);
+      const Vec3 center = Map3(B + 3 * i), n = Map3(N + 3 * i);
       multires::stencil_weights(center, n, count,
                                 [&](int j) { return Vec3(Map3(B + 3 * ring_[static_cast<std::size_t>(first + j)])); },
                                 ring_weight_.data() + 2 * first);
@@ -426,43 +408,21 @@ void MultiresSolver::encode_vertex_frames(const Mesh& mesh, const VertexData<int
   });
 }
 
-Vec3 MultiresSolver::frame_tangent(int i, const Vec3& n) const {
+inline Vec3 MultiresSolver::frame_tangent(int i, const Vec3& n) const {
   const double* b = base_.data();
-  const Vec3 center = Map3(b + 3 * i);
-  Vec3 g = Vec3::Zero(), h = Vec3::Zero();
+  const double cx = b[3 * i], cy = b[3 * i + 1], cz = b[3 * i + 2];
+  double gx = 0, gy = 0, gz = 0, hx = 0, hy = 0, hz = 0;  // scalar: Eigen's temporaries cost a third of the loop
   const int* ring = ring_.data();
-  const double* w = ring_weight_.data();
-  for (int j = ring_offset_[static_cast<std::size_t>(i)]; j < ring_offset_[static_cast<std::size_t>(i) + 1]; ++j) {
-    const Vec3 e = Map3(b + 3 * ring[j]) - center;
-    g += w[2 * j] * e;
-    h += w[2 * j + 1] * e;
+  const float* w = ring_weight_.data();
+  const int last = ring_offset_[static_cast<std::size_t>(i) + 1];
+  for (int j = ring_offset_[static_cast<std::size_t>(i)]; j < last; ++j) {
+    const double* r = b + 3 * ring[j];
+    const double ex = r[0] - cx, ey = r[1] - cy, ez = r[2] - cz;
+    const double wx = w[2 * j], wy = w[2 * j + 1];
+    gx += wx * ex, gy += wx * ey, gz += wx * ez;
+    hx += wy * ex, hy += wy * ey, hz += wy * ez;
   }
-  return multires::tangent_from_moments(g, h, n);
-}
-
-// The vertex frames' normals: the base's unit vertex normals averaged over the vertex and its
-// ring, twice (two rings): first over the free vertices and their neighbours (ring_normal_),
-// then per free vertex (frame_normal). One vertex's own normal is rough where the base is
-// squeezed (near fandisk's sharp features its tiny triangles turn by 0.1 to 14 degrees within one
-// ring under a 4 % translation), and the detail, several edge lengths long there, amplified that
-// into kinks.
-void MultiresSolver::update_ring_normals() const {
-  update_normals();
-  const double* nn = normal_.data();
-  double* r1 = ring_normal_.data();
-  const int* sv = smoothed_vertices_.data();
-  parallel_for(static_cast<std::ptrdiff_t>(smoothed_vertices_.size()), kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
-    for (auto k = lo; k < hi; ++k) Eigen::Map<Vec3>(r1 + 3 * sv[k]) = ring_average(nn, sv[k]);
-  });
-}
-
-Vec3 MultiresSolver::ring_average(const double* unit, int l) const {
-  const int* offset = ring_offset_.data();
-  const int* ring = ring_.data();
-  Vec3 s = Map3(unit + 3 * l);
-  for (int j = offset[l]; j < offset[l + 1]; ++j) s += Map3(unit + 3 * ring[j]);
-  const double sq = s.squaredNorm();
-  return sq > 0.0 ? Vec3(s / std::sqrt(sq)) : s;
+  return multires::tangent_from_moments(Vec3(gx, gy, gz), Vec3(hx, hy, hz), n);
 }
 
 void MultiresSolver::update_base(std::span<const Eigen::Affine3d> transforms, Base source,
@@ -582,9 +542,9 @@ void MultiresSolver::reconstruct(std::span<const Eigen::Affine3d> transforms, Ei
 }
 
 void MultiresSolver::add_vertex_frame_detail(Vec3* out) const {
-  update_ring_normals();
+  update_normals();
   const double* b = base_.data();
-  const double* r1 = ring_normal_.data();
+  const double* nn = normal_.data();
   const Code* codes = codes_.data();
   const int* glob = local_global_.data();
   parallel_for(n_free_, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
@@ -595,7 +555,7 @@ void MultiresSolver::add_vertex_frame_detail(Vec3* out) const {
         out[glob[i]] = center + Vec3(c.w[0], c.w[1], c.w[2]);
         continue;
       }
-      const Vec3 n = ring_average(r1, i), t = frame_tangent(i, n);
+      const Vec3 n = Map3(nn + 3 * i), t = frame_tangent(i, n);
       out[glob[i]] = center + c.w[0] * t + c.w[1] * n.cross(t) + c.w[2] * n;
     }
   });

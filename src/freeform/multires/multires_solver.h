@@ -170,12 +170,11 @@ class MultiresSolver {
   std::vector<int> vf_offset_, vf_faces_;  // CSR: rows of fnormal_ around normal_vertices_[k]
   std::vector<Code> codes_;                // per free vertex
   bool vertex_frames_ = false;             // codes_ hold vertex-frame coordinates (w; corner[0] = i)
-  // Vertex frames (multires/vertex_frame.h): rings (CSR over local vertices, empty outside
-  // smoothed_vertices_ = the free vertices and their neighbours), the free vertices' rings' rest
-  // 2D coordinates, and the workspace of the normals averaged over one ring (update_ring_normals).
-  std::vector<int> ring_offset_, ring_, smoothed_vertices_;
-  std::vector<double> ring_weight_;
-  mutable RowMatrixX3d ring_normal_;
+  // Vertex frames (multires/vertex_frame.h), per free vertex (CSR): its ring (local vertices)
+  // and the ring's rest 2D coordinates (float: half the bytes per frame; rest and frame read the
+  // same values, so the identity stays exact).
+  std::vector<int> ring_offset_, ring_;
+  std::vector<float> ring_weight_;
   // Per free vertex: det / a0 along the height ray may not fall below this (multires::safe_height),
   // a fixed fraction of its rest value so the rest never flattens; -inf: never flattened.
   std::vector<double> min_ratio_;
@@ -197,9 +196,8 @@ class MultiresSolver {
   void add_vertex_frame_detail(Vec3* out) const;
   void encode_vertex_frames(const Mesh& mesh, const VertexData<int>& local,
                             const std::function<void(const std::vector<char>&)>& set_normal_vertices);
-  void update_ring_normals() const;
-  Vec3 ring_average(const double* unit, int l) const;  // of unit vectors (rows) over l and its ring
-  Vec3 frame_tangent(int i, const Vec3& n) const;  // of free vertex i on the current base
+  // The tangent of free vertex i's frame on the current base (inlined into the per-frame loop).
+  [[gnu::always_inline]] inline Vec3 frame_tangent(int i, const Vec3& n) const;
   // Rebuilds free vertex i with its height lowered by multires::safe_height; 1 if it was lowered.
   int flatten_detail(int i, Vec3* out) const;
   void update_normals() const;

@@ -1,6 +1,7 @@
 // The frame at a base vertex that carries that vertex's own detail (docs/multires.md, "Vertex
-// frames"). Its normal is the base's vertex normals averaged over two rings (multires_solver.cpp);
-// its tangent is read from the vertex's ring: with (x_j, y_j) the ring's rest 2D coordinates in
+// frames"). Its normal is the base's area-weighted vertex normal (the normal the paper's detail
+// height is measured along, so heights are kept exactly); its tangent is read from the vertex's
+// ring: with (x_j, y_j) the ring's rest 2D coordinates in
 // the rest tangent plane (stencil_weights) and e_j the ring's offsets on the current base,
 //     g = sum_j x_j e_j,   h = sum_j y_j e_j
 // span the least-squares linear map from the rest tangent plane to the current base, and
@@ -19,8 +20,8 @@ namespace freeform::multires {
 // Writes the stencil's weights (x_j, y_j) in the rest tangent plane of unit normal n at
 // `center`, the x axis along the first stencil vertex's projected offset (any tangent where
 // that vanishes). position(j) returns stencil vertex j's rest base position.
-template <class Position>
-void stencil_weights(const Vec3& center, const Vec3& n, int count, Position position, double* weights) {
+template <class Position, class Weight>
+void stencil_weights(const Vec3& center, const Vec3& n, int count, Position position, Weight* weights) {
   Vec3 u = count > 0 ? Vec3(position(0) - center) : Vec3::Zero();
   u -= u.dot(n) * n;
   const double len = u.norm();
@@ -28,8 +29,8 @@ void stencil_weights(const Vec3& center, const Vec3& n, int count, Position posi
   const Vec3 v = n.cross(u);
   for (int j = 0; j < count; ++j) {
     const Vec3 e = position(j) - center;
-    weights[2 * j] = e.dot(u);
-    weights[2 * j + 1] = e.dot(v);
+    weights[2 * j] = static_cast<Weight>(e.dot(u));
+    weights[2 * j + 1] = static_cast<Weight>(e.dot(v));
   }
 }
 
