@@ -461,8 +461,21 @@ Vec3 MultiresSolver::base_face_normal(int f) const {
 }
 
 void MultiresSolver::update_normals() const {
-  update_face_normals();
-  const double* fn = fnormal_.data();
+  const double* b = base_.data();
+  double* fn = fnormal_.data();
+  const int nf = static_cast<int>(normal_faces_.size());
+  const int* fs = normal_faces_.data();
+  const std::array<int, 3>* faces = faces_.data();
+  parallel_for(nf, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (auto k = static_cast<int>(lo); k < static_cast<int>(hi); ++k) {
+      const std::array<int, 3>& f = faces[fs[k]];
+      const Vec3 p0 = Map3(b + 3 * f[0]);
+      const Vec3 n = (Map3(b + 3 * f[1]) - p0).cross(Map3(b + 3 * f[2]) - p0);  // area weighted
+      fn[3 * k] = n[0];
+      fn[3 * k + 1] = n[1];
+      fn[3 * k + 2] = n[2];
+    }
+  });
   double* vn = normal_.data();
   const int nv = static_cast<int>(normal_vertices_.size());
   const int* off = vf_offset_.data();
@@ -482,23 +495,6 @@ void MultiresSolver::update_normals() const {
   });
 }
 
-void MultiresSolver::update_face_normals() const {
-  const double* b = base_.data();
-  double* fn = fnormal_.data();
-  const int nf = static_cast<int>(normal_faces_.size());
-  const int* fs = normal_faces_.data();
-  const std::array<int, 3>* faces = faces_.data();
-  parallel_for(nf, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
-    for (auto k = static_cast<int>(lo); k < static_cast<int>(hi); ++k) {
-      const std::array<int, 3>& f = faces[fs[k]];
-      const Vec3 p0 = Map3(b + 3 * f[0]);
-      const Vec3 n = (Map3(b + 3 * f[1]) - p0).cross(Map3(b + 3 * f[2]) - p0);  // area weighted
-      fn[3 * k] = n[0];
-      fn[3 * k + 1] = n[1];
-      fn[3 * k + 2] = n[2];
-    }
-  });
-}
 
 // Out of line: rare, and keeping it out of the reconstruction loop keeps that loop fast.
 // Out of line and reloading its inputs by index: rare, and nothing of the reconstruction loop

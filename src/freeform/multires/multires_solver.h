@@ -8,8 +8,9 @@
 //  - vertex frame (the linear model's where the detail stands on its base): the detail vector of
 //    free vertex i in a frame at base vertex i (vertex_frame.h), over the paper's base, the BCM
 //    solution on the detailed mesh;
-//  - normal displacement (elsewhere, and the nonlinear model's over the smooth operator shape): base triangle t = (a, b, c), barycentrics (u, v, w), signed height h
-//    with x = sum_corner bary * (corner + h * corner_normal); found by the cubic of section 6
+//  - normal displacement (elsewhere, and the nonlinear model's over the smooth operator shape):
+//    base triangle t = (a, b, c), barycentrics (u, v, w), signed height h with
+//    x = sum_corner bary * (corner + h * corner_normal); found by the cubic of section 6
 //    over the faces around the vertex (growing rings), smallest |h| wins;
 //  - local frame (fallback where no triangle qualifies): offset in the frame (e, n x e, n) at
 //    the nearest base vertex, e = a projected edge.
@@ -21,7 +22,6 @@
 #include "freeform/common/progress.h"
 #include "freeform/mesh/mesh.h"
 #include "freeform/multires/operator_shape.h"
-#include "freeform/multires/vertex_frame.h"
 #include "freeform/nonlinear/nonlinear_solver.h"
 #include "freeform/regions/regions.h"
 
@@ -201,7 +201,6 @@ class MultiresSolver {
   // Rebuilds free vertex i with its height lowered by multires::safe_height; 1 if it was lowered.
   int flatten_detail(int i, Vec3* out) const;
   void update_normals() const;
-  void update_face_normals() const;
   Vec3 base_face_normal(int f) const;  // of local face f on the current base, area weighted
 };
 
