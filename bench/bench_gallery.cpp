@@ -8,7 +8,8 @@
 // --out writes each case's rest and deformed meshes (OFF) for scripts/gallery.sh's contact sheet.
 // --linear-multires: the linear model's multiresolution instead, both encodings (vertex frames,
 // normal displacement) on the same cases with their rotations scaled to a third (edits linear
-// BCM is made for), judged by the same counts plus the detail heights against the BCM base.
+// BCM is made for) and on surface patches, judged by the same counts plus the detail heights
+// against the BCM base; --out then writes the default encoding's k = 2 result per case.
 #include "bench_meshes.h"
 #include "build_paths.h"
 #include "nonlinear/gallery_cases.h"
@@ -239,7 +240,8 @@ std::vector<double> detail_heights(const Mesh& m, const Regions& regions, const 
 // The linear model's multiresolution with one encoding: the counts of quality(), and the height
 // errors of the tall detail (|h| above half its largest) against the BCM base (multiresolution
 // off), median and max.
-nlohmann::json run_linear_multires(const Shape& shape, int order, MultiresOptions::Encoding encoding, bool closed) {
+nlohmann::json run_linear_multires(const Shape& shape, int order, MultiresOptions::Encoding encoding, bool closed,
+                                   VertexData<Vec3>& p) {
   Shape s = shape;
   s.edit.settings.order = order;
   s.edit.multiresolution = false;
@@ -251,7 +253,8 @@ nlohmann::json run_linear_multires(const Shape& shape, int order, MultiresOption
     MultiresOptions options;
     options.encoding = encoding;
     const MultiresSolver solver(s.mesh, plain.regions(), s.edit.settings, options);
-    VertexData<Vec3> p = s.mesh.positions(), base0 = s.mesh.positions(), base1 = s.mesh.positions();
+    p = s.mesh.positions();
+    VertexData<Vec3> base0 = s.mesh.positions(), base1 = s.mesh.positions();
     solver.evaluate(transforms, p);
     plain.evaluate(std::vector<Eigen::Affine3d>(transforms.size(), Eigen::Affine3d::Identity()), base0);
     plain.evaluate(transforms, base1);
@@ -321,9 +324,16 @@ int linear_multires_gallery(const Options& o) {
   for (Shape s : cases) {
     const bool closed = is_closed(s.mesh);
     nlohmann::json runs = nlohmann::json::array();
-    for (int k : {2, 3})
-      for (auto e : {MultiresOptions::Encoding::VertexFrame, MultiresOptions::Encoding::Normal})
-        runs.push_back(run_linear_multires(s, k, e, closed));
+    for (int k : {2, 3}) {
+      VertexData<Vec3> frames, displaced;
+      runs.push_back(run_linear_multires(s, k, MultiresOptions::Encoding::VertexFrame, closed, frames));
+      runs.push_back(run_linear_multires(s, k, MultiresOptions::Encoding::Normal, closed, displaced));
+      // --out: the default's choice at k = 2 (vertex frames where the smooth shape exists).
+      if (!o.out.empty() && k == 2 && !runs.back().contains("error"))
+        write_result(o.out, s.name + "-linear-multires", s.mesh,
+                     runs.back()["smooth_operator"].get<bool>() ? frames : displaced);
+    }
+    if (!o.out.empty()) write_result(o.out, s.name + "-rest", s.mesh, s.mesh.positions());
     std::fprintf(stderr, "%-34s", s.name.c_str());
     for (const nlohmann::json& r : runs)
       if (r.contains("error"))
@@ -341,13 +351,13 @@ int linear_multires_gallery(const Options& o) {
 
 int main(int argc, char** argv) try {
   const Options o = parse(argc, argv);
+  if (!o.out.empty()) std::filesystem::create_directories(o.out);
   if (o.linear_multires) return linear_multires_gallery(o);
   std::vector<Config> configs = {{"k2", 2, true, false},
                                  {"k3", 3, true, false},
                                  {"k2 multires off", 2, false, false},
                                  {"k3 multires off", 3, false, false},
                                  {"k2 C0", 2, true, true}};
-  if (!o.out.empty()) std::filesystem::create_directories(o.out);
   nlohmann::json out = nlohmann::json::array();
   for (const Shape& s : gallery(o)) {
     const bool closed = is_closed(s.mesh);

@@ -495,7 +495,6 @@ void MultiresSolver::update_normals() const {
   });
 }
 
-
 // Out of line: rare, and keeping it out of the reconstruction loop keeps that loop fast.
 // Out of line and reloading its inputs by index: rare, and nothing of the reconstruction loop
 // has to live in memory across this call (passing the loop's vectors by reference cost 25 %).
@@ -559,20 +558,23 @@ void MultiresSolver::add_vertex_frame_detail(Vec3* out) const {
 
 void MultiresSolver::add_detail(VertexData<Vec3>& positions) const {
   const auto t1 = Clock::now();
+  Vec3* out = positions.raw().data();
   if (vertex_frames_) {
-    Vec3* out = positions.raw().data();
     add_vertex_frame_detail(out);
-    for (int l = n_free_; l < n_moving_; ++l) out[local_global_[static_cast<std::size_t>(l)]] = base_.row(l).transpose();
     flattened_ = 0;
-    timings_.detail_ms = ms_since(t1);
-    return;
+  } else {
+    flattened_ = add_displaced_detail(out);
   }
+  for (int l = n_free_; l < n_moving_; ++l) out[local_global_[static_cast<std::size_t>(l)]] = base_.row(l).transpose();
+  timings_.detail_ms = ms_since(t1);
+}
+
+int MultiresSolver::add_displaced_detail(Vec3* out) const {
   update_normals();
   const double* b = base_.data();
   const double* nn = normal_.data();
   const Code* codes = codes_.data();
   const int* glob = local_global_.data();
-  Vec3* out = positions.raw().data();
   const int n = n_free_;
   std::atomic<int> flattened{0};
   parallel_for(n, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
@@ -607,9 +609,7 @@ void MultiresSolver::add_detail(VertexData<Vec3>& positions) const {
     }
     flattened += local;
   });
-  for (int l = n_free_; l < n_moving_; ++l) out[glob[l]] = Map3(b + 3 * l);
-  flattened_ = flattened;
-  timings_.detail_ms = ms_since(t1);
+  return flattened;
 }
 
 MultiresProblems MultiresSolver::problems(const VertexData<Vec3>& positions) const {

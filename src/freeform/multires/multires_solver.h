@@ -63,7 +63,7 @@ struct MultiresStats {
   int normal_encoded = 0;       // vertices with a normal displacement
   int fallback = 0;             // vertices with the local-frame fallback
   int vertex_frames = 0;        // vertices encoded in the frame of their own base vertex
-  double max_height = 0;        // max |h| of the normal displacements (mesh units)
+  double max_height = 0;        // max |h| of the normal displacements, or of the vertex frames' normal offsets (mesh units)
   int rest_folded = 0;          // encodings already folded at rest (det of the offset map <= 0)
   // The base's operator (operator_shape.h): on the smooth foot-point shape, or (false) on the
   // detailed mesh, with the reason where the shape was wanted but could not be used (empty for
@@ -192,7 +192,8 @@ class MultiresSolver {
   enum class Base { Linear, NonlinearSolve, Given };
   void update_base(std::span<const Eigen::Affine3d> transforms, Base source,
                    const Eigen::Ref<const RowMatrixX3d>* given = nullptr, const Progress& progress = {}) const;
-  void add_detail(VertexData<Vec3>& positions) const;
+  void add_detail(VertexData<Vec3>& positions) const;  // the free vertices by encoding, then the handles
+  int add_displaced_detail(Vec3* out) const;          // normal displacement / local frames; returns flattened
   void add_vertex_frame_detail(Vec3* out) const;
   void encode_vertex_frames(const Mesh& mesh, const VertexData<int>& local,
                             const std::function<void(const std::vector<char>&)>& set_normal_vertices);

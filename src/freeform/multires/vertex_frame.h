@@ -1,8 +1,8 @@
 // The frame at a base vertex that carries that vertex's own detail (docs/multires.md, "Vertex
 // frames"). Its normal is the base's area-weighted vertex normal (the normal the paper's detail
 // height is measured along, so heights are kept exactly); its tangent is read from the vertex's
-// ring: with (x_j, y_j) the ring's rest 2D coordinates in
-// the rest tangent plane (stencil_weights) and e_j the ring's offsets on the current base,
+// ring: with (x_j, y_j) the ring's rest 2D coordinates in the rest tangent plane
+// (stencil_weights) and e_j the ring's offsets on the current base,
 //     g = sum_j x_j e_j,   h = sum_j y_j e_j
 // span the least-squares linear map from the rest tangent plane to the current base, and
 // P g - n x h (P: projection onto the tangent plane) is the image of the rest x axis under that
