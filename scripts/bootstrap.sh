@@ -13,6 +13,7 @@ PACKAGES=(
   libgl-dev libopengl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
   libglfw3-dev libimgui-dev xvfb xauth xdotool x11-utils
   python3-dev pybind11-dev python3-numpy python3-pytest
+  python3-venv python3-setuptools python3-wheel python3-build patchelf mypy
   blender
 )
 

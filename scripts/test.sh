@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Builds and runs the whole test suite: release build (warnings are errors), then the same
-# suite under AddressSanitizer + UndefinedBehaviorSanitizer. Installs what is missing first.
+# Builds and runs the whole test suite: release build (warnings are errors), the Python suite
+# against the wheel installed in a fresh virtualenv, then the release suite under
+# AddressSanitizer + UndefinedBehaviorSanitizer. Installs what is missing first.
 # FREEFORM_SKIP_ASAN=1 runs only the release suite.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -13,6 +14,7 @@ export FREEFORM_REQUIRE_DATA=1
 cmake --preset release
 cmake --build --preset release
 ctest --preset release
+scripts/test-wheel.sh
 if [ "${FREEFORM_SKIP_ASAN:-0}" != 1 ]; then
   cmake --preset asan
   cmake --build --preset asan

@@ -1,7 +1,7 @@
 """The bundled `freeform` module (built by scripts/blender-addon.sh into this package)."""
 
 try:
-    from . import freeform as ff  # noqa: F401  (the pybind11 module, PyInit_freeform)
+    from . import freeform as ff  # noqa: F401  (the freeform package, with its libraries in freeform/_libs)
     IMPORT_ERROR = None
 except ImportError as error:  # a zip without the module, or built for another Python
     ff = None

@@ -25,11 +25,14 @@ void bind_edit(py::module_& m) {
       .def("to_dict", [](const PyEdit& self) { return to_python(edit_to_json(self.edit)); },
            "The edit as edit-file data: vertex-list selectors, explicit settings, \"matrix\" transforms at full "
            "precision; Edit.from_dict(e.to_dict(), mesh) deforms bit for bit like e.")
-      .def_property_readonly("order", [](const PyEdit& self) { return self.edit.settings.order; })
-      .def_property_readonly("multiresolution", [](const PyEdit& self) { return self.edit.multiresolution; })
+      .def_property_readonly("order", [](const PyEdit& self) { return self.edit.settings.order; },
+                             "The stiffness k (1, 2 or 3): the order of the k-harmonic energy.")
+      .def_property_readonly("multiresolution", [](const PyEdit& self) { return self.edit.multiresolution; },
+                             "Whether the detail is kept on a smooth base (docs/multires.md).")
       .def_property_readonly("support", [](const PyEdit& self) { return vertex_array(self.edit.support); },
-                             "The support's vertex indices (int64 array).")
-      .def_property_readonly("n_handles", [](const PyEdit& self) { return self.edit.handles.size(); })
+                             "(s,) int64 array: the support's vertex indices.")
+      .def_property_readonly("n_handles", [](const PyEdit& self) { return self.edit.handles.size(); },
+                             "Handles, movable and fixed.")
       .def_property_readonly("n_movable", [](const PyEdit& self) { return n_movable(self.edit); },
                              "Movable handles: the number of transforms per frame.")
       .def("__repr__", [](const PyEdit& self) {

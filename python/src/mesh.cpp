@@ -52,9 +52,9 @@ void bind_mesh(py::module_& m) {
           "n x 3 float64 array: a new copy of the positions.")
       .def_property_readonly("faces", [](const Mesh& self) { return faces_array(mesh_faces(self)); },
                              "m x 3 int64 array: a new copy of the triangles.")
-      .def_property_readonly("n_vertices", &Mesh::n_vertices)
-      .def_property_readonly("n_faces", &Mesh::n_faces)
-      .def_property_readonly("n_edges", &Mesh::n_edges)
+      .def_property_readonly("n_vertices", &Mesh::n_vertices, "Number of vertices (rows of `vertices`).")
+      .def_property_readonly("n_faces", &Mesh::n_faces, "Number of triangles (rows of `faces`).")
+      .def_property_readonly("n_edges", &Mesh::n_edges, "Number of edges.")
       .def("__repr__", [](const Mesh& self) {
         return "<freeform.Mesh with " + std::to_string(self.n_vertices()) + " vertices, " +
                std::to_string(self.n_faces()) + " faces>";
@@ -91,7 +91,7 @@ void bind_mesh(py::module_& m) {
         write_mesh(p, soup, options);
       },
       py::arg("path"), py::arg("vertices"), py::arg("faces") = py::none(), py::kw_only(), py::arg("binary") = true,
-      "Writes (vertices, faces) or a Mesh as OBJ, OFF, PLY or STL (by extension; binary PLY/STL unless "
+      "Writes (vertices: (n, 3) real numbers, faces: (m, 3) integers) or a Mesh as OBJ, OFF, PLY or STL (by extension; binary PLY/STL unless "
       "binary=False) atomically: a temporary file renamed over `path`. OFF, OBJ and PLY keep doubles exactly, "
       "STL stores float32.");
 

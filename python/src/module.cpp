@@ -1,7 +1,8 @@
-// The Python module `freeform` (docs/python.md).
+// The compiled part of the Python package `freeform` (python/freeform/__init__.py re-exports it;
+// docs/python.md).
 #include "bindings.h"
 
-PYBIND11_MODULE(freeform, m) {
+PYBIND11_MODULE(_freeform, m) {
   using namespace freeform::python;
   m.doc() =
       "Real-time freeform mesh modeling (Botsch & Kobbelt 2004): read a mesh and an edit, precompute an "

@@ -357,11 +357,12 @@ void bind_solver(py::module_& m) {
                              "(counts, solver, timings_ms, residual, multiresolution, ...).")
       .def("problems", &PySolver::problems,
            "What is wrong with the last frame: non-finite positions, folded edges, flipped or flattened detail.")
-      .def_property_readonly("mesh", &PySolver::mesh)
-      .def_property_readonly("n_vertices", [](const PySolver& s) { return s.solver().n_vertices(); })
+      .def_property_readonly("mesh", &PySolver::mesh, "The Mesh the solver was built on (its rest positions).")
+      .def_property_readonly("n_vertices", [](const PySolver& s) { return s.solver().n_vertices(); },
+                             "Rows of a frame's positions.")
       .def_property_readonly("n_movable", &PySolver::n_movable, "Transforms per frame, in handle order.")
       .def_property_readonly("touched", [](const PySolver& s) { return vertex_array(s.solver().touched()); },
-                             "The vertices a frame writes (free and movable-handle vertices), sorted.")
+                             "(t,) int64 array: the vertices a frame writes (free and movable-handle vertices), sorted.")
       .def_property_readonly(
           "transforms",
           [](const PySolver& s) {
@@ -369,7 +370,7 @@ void bind_solver(py::module_& m) {
             for (const Eigen::Affine3d& t : s.own()) out.append(matrix_array(t));
             return out;
           },
-          "The edit's own transforms: one 4x4 array per movable handle.")
+          "The edit's own transforms: a list of (4, 4) float64 arrays, one per movable handle.")
       .def(
           "handle_centroid",
           [](const PySolver& s, int movable) {
@@ -379,7 +380,7 @@ void bind_solver(py::module_& m) {
             const Vec3 c = s.solver().handle_centroid(movable);
             return positions_array(&c, 1).attr("reshape")(3);
           },
-          py::arg("movable"), "The rest centroid of movable handle m (the default pivot).");
+          py::arg("movable"), "(3,) float64 array: the rest centroid of movable handle m (the default pivot).");
 
   m.def(
       "deform",

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Runs a command where Debian's SuiteSparse, METIS, fmt and OpenBLAS libraries cannot be loaded,
+# as on a Linux without them: in a private mount namespace each of their files is covered by
+# an empty one, and OpenBLAS's BLAS and LAPACK (which numpy and Blender link) by the reference
+# ones. Proves that the wheel and the Blender add-on load only what they bundle (docs/python.md).
+#   scripts/without-system-libs.sh COMMAND [ARGS...]
+# Needs root (or a user namespace) for `unshare`; exits 77 (skip) where namespaces are refused.
+set -euo pipefail
+if [ "${1:-}" != --inside ]; then
+  if ! unshare -m --propagation private true 2>/dev/null; then
+    echo "without-system-libs: mount namespaces are not available here (unshare -m refused)" >&2
+    exit 77
+  fi
+  exec unshare -m --propagation private "$0" --inside "$@"
+fi
+shift
+lib=/usr/lib/x86_64-linux-gnu
+hidden=0
+for f in "$lib"/lib{cholmod,umfpack,amd,camd,colamd,ccolamd,suitesparseconfig,spqr,metis,fmt}.so.* \
+         "$lib"/openblas-pthread/libopenblas*.so*; do
+  [ -f "$f" ] && [ ! -L "$f" ] || continue
+  mount --bind /dev/null "$f"
+  hidden=$((hidden + 1))
+done
+for api in blas lapack; do
+  [ -f "$lib/$api/lib$api.so.3" ] && mount --bind "$lib/$api/lib$api.so.3" "$lib/openblas-pthread/lib$api.so.3"
+done
+echo "without-system-libs: $hidden library files hidden" >&2
+exec "$@"
