@@ -6,15 +6,16 @@
 #   scripts/without-system-libs.sh COMMAND [ARGS...]
 # Needs root (or a user namespace) for `unshare`; exits 77 (skip) where namespaces are refused.
 set -euo pipefail
+lib=/usr/lib/x86_64-linux-gnu
 if [ "${1:-}" != --inside ]; then
-  if ! unshare -m --propagation private true 2>/dev/null; then
-    echo "without-system-libs: mount namespaces are not available here (unshare -m refused)" >&2
+  probe=$(readlink -f "$lib/libfmt.so.9" 2>/dev/null || true)
+  if ! unshare -m --propagation private sh -c "mount --bind /dev/null '${probe:-/dev/null}'" 2>/dev/null; then
+    echo "without-system-libs: mount namespaces or bind mounts are refused here (unshare -m)" >&2
     exit 77
   fi
   exec unshare -m --propagation private "$0" --inside "$@"
 fi
 shift
-lib=/usr/lib/x86_64-linux-gnu
 hidden=0
 for f in "$lib"/lib{cholmod,umfpack,amd,camd,colamd,ccolamd,suitesparseconfig,spqr,metis,fmt}.so.* \
          "$lib"/openblas-pthread/libopenblas*.so*; do
