@@ -52,7 +52,7 @@ for n, radius in ((250, 0.75),):
         s.evaluate(transforms)
         solver_ms.append(1e3 * (time.perf_counter() - t0))
         t0 = time.perf_counter()
-        s.drag(obj, transforms, 20.0)  # what a mouse move does: evaluate + write the support + redraw update
+        s.drag(obj, transforms)  # what a mouse move does: a frame + write the support + redraw update
         frame_ms.append(1e3 * (time.perf_counter() - t0))
     results.append({"vertices": len(me.vertices), "touched": int(len(s.solver.touched)),
                     "precompute_ms": round(precompute_ms, 1),
