@@ -147,6 +147,7 @@ struct Options {
   int peer_iterations = 2000;
   unsigned seed = 37;
   bool linear_multires = false;
+  std::vector<std::string> configs;  // --config NAME (repeatable): only these Freeform runs
 };
 
 Options parse(int argc, char** argv) {
@@ -169,6 +170,8 @@ Options parse(int argc, char** argv) {
       o.seed = static_cast<unsigned>(std::stoul(value()));
     else if (a == "--linear-multires")
       o.linear_multires = true;
+    else if (a == "--config")
+      o.configs.push_back(value());
     else
       throw std::runtime_error("unknown option " + a);
   }
@@ -358,6 +361,8 @@ int main(int argc, char** argv) try {
                                  {"k2 multires off", 2, false, false},
                                  {"k3 multires off", 3, false, false},
                                  {"k2 C0", 2, true, true}};
+  if (!o.configs.empty())
+    std::erase_if(configs, [&](const Config& c) { return std::find(o.configs.begin(), o.configs.end(), c.name) == o.configs.end(); });
   nlohmann::json out = nlohmann::json::array();
   for (const Shape& s : gallery(o)) {
     const bool closed = is_closed(s.mesh);

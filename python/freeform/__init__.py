@@ -7,38 +7,12 @@ from ._freeform import (Edit, EditSolver, Error, IoError, Mesh, SolverError, Top
                         make_cylinder, make_disk, make_icosphere, make_plane, read_edit, read_mesh, write_edit,
                         write_mesh)
 
-from typing import Optional, TypedDict
+from ._types import DragFrame, FrameState, Problems
 
 __version__ = "0.1.0"
-
-
-class FrameState(TypedDict):
-    """What EditSolver.evaluate_within and refine return."""
-    iterations: int
-    residual: float
-    converged: bool
-
-
-class DragFrame(FrameState):
-    """What EditSolver.frame and settle return."""
-    written: bool
-    predicted: bool
-    settled: bool
-
-
-class Problems(TypedDict):
-    """What EditSolver.problems returns."""
-    ok: bool
-    non_finite: int
-    first_non_finite: Optional[int]
-    folded_edges: int
-    flipped_triangles: int
-    overlaps: int
-
-
-__all__ = ["DragFrame", "FrameState", "Problems", "Edit", "EditSolver", "Error", "IoError", "Mesh", "SolverError", "TopologyError", "deform",
-           "make_bumpy_plane", "make_cylinder", "make_disk", "make_icosphere", "make_plane", "read_edit",
-           "read_mesh", "write_edit", "write_mesh"]
+__all__ = ["DragFrame", "Edit", "EditSolver", "Error", "FrameState", "IoError", "Mesh", "Problems", "SolverError",
+           "TopologyError", "deform", "make_bumpy_plane", "make_cylinder", "make_disk", "make_icosphere", "make_plane",
+           "read_edit", "read_mesh", "write_edit", "write_mesh"]
 
 for _cls in (Edit, EditSolver, Mesh):
     _cls.__module__ = __name__  # freeform.Mesh, not freeform._freeform.Mesh, in reprs and help()

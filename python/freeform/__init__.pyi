@@ -1,10 +1,12 @@
 # Type stub of the freeform package (the compiled module freeform._freeform, re-exported).
 # tests/python/test_package.py fails when a public name of the module has no entry here.
 import os
-from typing import Any, Callable, Sequence, TypedDict, Union
+from typing import Any, Callable, Sequence, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from ._types import DragFrame as DragFrame, FrameState as FrameState, Problems as Problems
 
 __version__: str
 
@@ -56,27 +58,6 @@ class Edit:
     def n_handles(self) -> int: ...
     @property
     def n_movable(self) -> int: ...
-
-class FrameState(TypedDict):
-    """What EditSolver.evaluate_within and refine return."""
-    iterations: int
-    residual: float
-    converged: bool
-
-class DragFrame(FrameState):
-    """What EditSolver.frame and settle return."""
-    written: bool
-    predicted: bool
-    settled: bool
-
-class Problems(TypedDict):
-    """What EditSolver.problems returns."""
-    ok: bool
-    non_finite: int
-    first_non_finite: int | None
-    folded_edges: int
-    flipped_triangles: int
-    overlaps: int
 
 class EditSolver:
     """The precomputed edit: the constructor does all sparse work once, evaluate is the per-frame product."""

@@ -263,7 +263,7 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   if (keep_system) {
     // swap: Eigen 3.4's SparseMatrix has no move constructor, std::move would copy.
     system_ = std::make_unique<BcmFactoredSystem>(
-        BcmFactoredSystem{std::move(sys.constrained), {}, {}, {}, std::move(*solver)});
+        BcmFactoredSystem{std::move(sys.constrained), {}, {}, {}, std::move(*solver), settings.order});
     system_->a_pc.swap(sys.a_pc);
     system_->lap.swap(sys.lap);
     system_->outer.swap(sys.outer);

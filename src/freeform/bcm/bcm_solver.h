@@ -68,6 +68,7 @@ struct BcmFactoredSystem {
   Eigen::SparseMatrix<double, Eigen::RowMajor> lap;  // S_k = outer * lap (BcmSystem)
   Eigen::SparseMatrix<double> outer;
   SparseSolver solver;              // factors A_pp (it holds A_pp's lower triangle)
+  int order = 0;                    // k: S_k's order
 };
 
 // Order of the free rows (free_vertices(), constant_part(), basis()). BreadthFirst keeps mesh

@@ -51,6 +51,16 @@ struct NonlinearOptions {
   // Keep the enclosed volume of every closed component with free vertices (times the mean
   // cube of the handles' scale field); open meshes are not affected.
   bool preserve_volume = true;
+  // Weight of a membrane term (ARAP's energy, the same rotated edges) added to the global step's
+  // k-harmonic one, relative to the operator at the scale of a ring (0: none; -1: automatic,
+  // 0.01 (500 / free)^(k-1), at most 0.1: a membrane length that grows with the support like the
+  // fit's width). The order-k energy sees only the Laplacian coordinates, which are nearly zero on
+  // smooth parts: it lets the inside of a bend or a twisted limb compress freely. At k = 2 the
+  // membrane's edges turn with their own 1-ring rotations (ARAP's), at k = 3 with the smoothed
+  // ones. Costs one more factorization at the start. Measured (docs/nonlinear.md, "Gallery"):
+  // 31 % (k = 2) and 35 % (k = 3) fewer collapsed faces; the whole-cactus bend and the k = 3
+  // pulls are clean.
+  double membrane = -1.0;
   // Images of the local/global map combined by Anderson acceleration (anderson.h; 0: plain
   // iteration). Measured (docs/nonlinear.md): a third to two thirds fewer iterations on the
   // survey set-ups and the S-bent plane; 116 -> 61 on the editor benchmark's armadillo twist
@@ -118,6 +128,7 @@ class NonlinearSolver {
 
   void fit_rotations();
   void keep_volumes();
+  void add_membrane(double weight);
 };
 
 }  // namespace freeform
