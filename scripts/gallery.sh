@@ -3,7 +3,7 @@
 # against CGAL's ARAP and SR-ARAP, prints the summary and renders a contact sheet of the cases
 # (rest | Freeform k = 3 | CGAL ARAP, close-ups of what moved) with `freeform render`.
 #   scripts/gallery.sh [OUT_DIR=build/gallery] [bench_gallery options, e.g. --quick]
-# Writes OUT_DIR/gallery.json, OUT_DIR/summary.md and OUT_DIR/contact-sheet.png.
+# Writes OUT_DIR/gallery.json, OUT_DIR/summary.md and OUT_DIR/contact-sheet-N.png (20 cases a page).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -35,5 +35,11 @@ for rest in "$out"/meshes/*-rest.off; do
     tiles+=("$out/png/$case_name-$kind.png")
   done
 done
-montage -label '%t' "${tiles[@]}" -tile 3x -geometry +2+2 -title "rest | Freeform k=3 | CGAL ARAP" "$out/contact-sheet.png"
-echo "gallery: wrote $out/gallery.json, $out/summary.md and $out/contact-sheet.png"
+# Pages of 20 cases: one sheet of all 103 exceeds ImageMagick's default size limit.
+rm -f "$out"/contact-sheet-*.png
+per_page=60
+for ((i = 0, page = 1; i < ${#tiles[@]}; i += per_page, page++)); do
+  montage -label '%t' "${tiles[@]:i:per_page}" -tile 3x -geometry +2+2 -title "rest | Freeform k=3 | CGAL ARAP" \
+    "$out/contact-sheet-$page.png"
+done
+echo "gallery: wrote $out/gallery.json, $out/summary.md and $out/contact-sheet-*.png"
