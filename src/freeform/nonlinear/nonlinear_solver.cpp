@@ -182,10 +182,11 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
     for (std::size_t k = first; k < d.nbr.size(); ++k) d.nbr_w[k] += floor;
     d.nbr_offset.push_back(static_cast<int>(d.nbr.size()));
   }
-  // Order 1 is a membrane already.
-  const double membrane = options.membrane >= 0.0 ? options.membrane
-                          : d.sys->order < 2 ? 0.0
-                                             : std::min(kMembrane * std::pow(kMembraneFree / std::max(p, 1), d.sys->order - 1), kMaxMembrane);
+  double membrane = options.membrane;
+  if (membrane < 0.0)  // automatic; order 1 is a membrane already
+    membrane = d.sys->order < 2 ? 0.0
+                                : std::min(kMembrane * std::pow(kMembraneFree / std::max(p, 1), d.sys->order - 1),
+                                           kMaxMembrane);
   if (membrane > 0.0 && p > 0) add_membrane(membrane);
   d.q.assign(static_cast<std::size_t>(p + c), Eigen::Quaterniond::Identity());
   d.guide.assign(static_cast<std::size_t>(p), Eigen::Quaterniond::Identity());
@@ -291,15 +292,19 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
       const auto ui = static_cast<std::size_t>(i);
       d.rot[ui] = d.scale[ui] * d.q[ui].toRotationMatrix() - Eigen::Matrix3d::Identity();
     });
-    rotated_edges(lap, d.rest.data(), n_inner, p, [&](Eigen::Index i) -> const Eigen::Matrix3d& { return d.rot[static_cast<std::size_t>(i)]; }, d.b1);
+    const auto field = [](const std::vector<Eigen::Matrix3d>& r) {
+      return [&r](Eigen::Index i) -> const Eigen::Matrix3d& { return r[static_cast<std::size_t>(i)]; };
+    };
+    rotated_edges(lap, d.rest.data(), n_inner, p, field(d.rot), d.b1);
+    // The membrane term (add_membrane): + mu b on the free rows, b turned by its own rotations.
     Eigen::MatrixXd rhs = d.sys->outer * d.b1 - d.ac;
-    if (d.mu != 0.0 && !d.local_membrane) rhs += d.mu * d.b1.topRows(p);  // the same rotated edges
+    if (d.mu != 0.0 && !d.local_membrane) rhs += d.mu * d.b1.topRows(p);
     if (d.local_membrane) {
       parallel_rows(p, [&](int i) {
         const auto ui = static_cast<std::size_t>(i);
         d.rot_local[ui] = d.scale[ui] * d.q_local[ui].toRotationMatrix() - Eigen::Matrix3d::Identity();
       });
-      rotated_edges(lap, d.rest.data(), p, p, [&](Eigen::Index i) -> const Eigen::Matrix3d& { return d.rot_local[static_cast<std::size_t>(i)]; }, d.b_mem);
+      rotated_edges(lap, d.rest.data(), p, p, field(d.rot_local), d.b_mem);
       rhs += d.mu * d.b_mem;
     }
     const Eigen::MatrixXd disp = d.sys->solver.solve(rhs);
@@ -353,7 +358,8 @@ void NonlinearSolver::add_membrane(double weight) {
     da += full.coeff(i, i);
     dl += membrane.coeff(i, i);
   }
-  const double mu = ((da > 0.0) == (dl > 0.0) ? 1.0 : -1.0) * weight * std::abs(da) / std::max(std::abs(dl), 1e-300);
+  const double sign = (da > 0.0) == (dl > 0.0) ? 1.0 : -1.0;
+  const double mu = sign * weight * std::abs(da) / std::max(std::abs(dl), 1e-300);
   full += mu * membrane;
   Eigen::SparseMatrix<double> app = full.leftCols(p), apc = full.rightCols(n - p);
   const bool symmetric = is_symmetric(app, 1e-10);
@@ -405,8 +411,10 @@ void NonlinearSolver::fit_rotations() {
     }
     d.cov[static_cast<std::size_t>(i)] = s;
   });
-  if (d.local_membrane)
-    parallel_rows(p, [&](int i) { extract_rotation(d.cov[static_cast<std::size_t>(i)], d.q_local[static_cast<std::size_t>(i)]); });
+  if (d.local_membrane)  // the membrane's rotations: the 1-ring alone
+    parallel_rows(p, [&](int i) {
+      extract_rotation(d.cov[static_cast<std::size_t>(i)], d.q_local[static_cast<std::size_t>(i)]);
+    });
   // Summing the neighbours' covariances ring by ring fits R_i to a wider patch: a smoother
   // rotation field (like SR-ARAP's smoothness term), fewer iterations, less necking.
   for (int pass = 0; pass < d.smoothing_rings; ++pass) {
