@@ -86,7 +86,7 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
   doc.set_region(editor::PaintMode::Handle, handle, false);
   if (nonlinear) {
     editor::EditParameters p = doc.parameters();
-    p.nonlinear = true;
+    p.deformation = Deformation::Nonlinear;
     doc.set_parameters(p);
   }
   const auto t_pre = Clock::now();

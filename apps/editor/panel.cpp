@@ -229,11 +229,12 @@ void App::panel_parameters() {
   ImGui::SameLine();
   ImGui::Checkbox("multiresolution", &p.multiresolution);
   help_marker("Keep the surface detail while the base deforms (docs/multires.md)");
-  ImGui::Checkbox("nonlinear", &p.nonlinear);
+  bool nonlinear = p.deformation == Deformation::Nonlinear;
+  if (ImGui::Checkbox("nonlinear", &nonlinear)) p.deformation = nonlinear ? Deformation::Nonlinear : Deformation::Linear;
   help_marker("Rotation-aware: large twists and bends keep their volume (docs/nonlinear.md); iterates on a worker thread while the display follows the handle");
   ImGui::SameLine();
-  ImGui::BeginDisabled(!p.nonlinear);
-  ImGui::Checkbox("keep volume", &p.preserve_volume);
+  ImGui::BeginDisabled(!nonlinear);
+  ImGui::Checkbox("keep volume", &p.nonlinear.preserve_volume);
   help_marker("Nonlinear model: keep the enclosed volume of closed meshes (a twisted bar does not neck); off for pulls that should add volume");
   ImGui::EndDisabled();
   if (slider_done) {

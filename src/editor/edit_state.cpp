@@ -209,8 +209,9 @@ Edit EditState::to_edit(const Mesh& rest) const {
   Edit e;
   e.settings = settings();
   e.multiresolution = params_.multiresolution;
-  e.deformation = params_.nonlinear ? Deformation::Nonlinear : Deformation::Linear;
-  e.nonlinear.preserve_volume = params_.preserve_volume;
+  e.deformation = params_.deformation;
+  e.nonlinear = params_.nonlinear;
+  e.allow_unanchored = params_.allow_unanchored;
   e.support = support_vertices();
   for (const HandleState& h : handles_) {
     EditHandle eh;
@@ -241,8 +242,9 @@ EditState EditState::from_edit(const Edit& edit, const Mesh& rest, int first_id)
     for (Vertex v : seg.vertices) s.check_vertex(v);
   p.anisotropic = edit.settings.anisotropic;
   p.multiresolution = edit.multiresolution;
-  p.nonlinear = edit.deformation == Deformation::Nonlinear;
-  p.preserve_volume = edit.nonlinear.preserve_volume;
+  p.deformation = edit.deformation;
+  p.nonlinear = edit.nonlinear;
+  p.allow_unanchored = edit.allow_unanchored;
   s.set_parameters(p);
   for (Vertex v : edit.support) s.set_vertex(v, true, -1);
   for (std::size_t i = 0; i < edit.handles.size(); ++i) {

@@ -23,8 +23,11 @@ struct EditParameters {
   double inner = 2.0;          // smoothness at the handles, [0, k-1]
   bool anisotropic = false;
   bool multiresolution = true;
-  bool nonlinear = false;      // the nonlinear model (large rotations, docs/nonlinear.md)
-  bool preserve_volume = true; // its volume term (NonlinearOptions::preserve_volume)
+  // The model and all of its options as the library holds them (edit.h), so an imported edit's
+  // iterations, tolerance, volume term and allow_unanchored survive its export.
+  Deformation deformation = Deformation::Linear;
+  NonlinearOptions nonlinear;
+  bool allow_unanchored = false;
   // Stretches of the boundary with their own smoothness (later ones win). The editor keeps
   // the painted vertices; to_edit() drops those outside the current smoothness band.
   std::vector<SmoothnessSegment> segments;

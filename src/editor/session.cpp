@@ -108,7 +108,7 @@ class Reader : JsonReader {
   EditParameters parameters(const Json& j, const std::string& p, int n) const {
     object(j, p);
     keys(j, p, {"order", "outer", "inner", "anisotropic", "multiresolution", "nonlinear", "preserve_volume",
-                "segments"});
+                "max_iterations", "tolerance", "allow_unanchored", "segments"});
     EditParameters e;
     if (j.contains("order")) {
       const long long k = integer(j["order"], at(p, "order"));
@@ -126,8 +126,20 @@ class Reader : JsonReader {
     }
     if (j.contains("anisotropic")) e.anisotropic = boolean(j["anisotropic"], at(p, "anisotropic"));
     if (j.contains("multiresolution")) e.multiresolution = boolean(j["multiresolution"], at(p, "multiresolution"));
-    if (j.contains("nonlinear")) e.nonlinear = boolean(j["nonlinear"], at(p, "nonlinear"));
-    if (j.contains("preserve_volume")) e.preserve_volume = boolean(j["preserve_volume"], at(p, "preserve_volume"));
+    if (j.contains("nonlinear") && boolean(j["nonlinear"], at(p, "nonlinear"))) e.deformation = Deformation::Nonlinear;
+    if (j.contains("preserve_volume"))
+      e.nonlinear.preserve_volume = boolean(j["preserve_volume"], at(p, "preserve_volume"));
+    if (j.contains("max_iterations")) {  // the ranges of edit files (edit_json.cpp)
+      const long long m = integer(j["max_iterations"], at(p, "max_iterations"));
+      if (m < 1 || m > 100000) fail(q(at(p, "max_iterations")) + " must be in [1, 100000], got " + std::to_string(m));
+      e.nonlinear.max_iterations = static_cast<int>(m);
+    }
+    if (j.contains("tolerance")) {
+      const double t = number(j["tolerance"], at(p, "tolerance"));
+      if (!(t > 0.0 && t < 1.0)) fail(q(at(p, "tolerance")) + " must be in (0, 1), got " + num(t));
+      e.nonlinear.tolerance = t;
+    }
+    if (j.contains("allow_unanchored")) e.allow_unanchored = boolean(j["allow_unanchored"], at(p, "allow_unanchored"));
     if (j.contains("segments")) {
       const std::string sp = at(p, "segments");
       const Json& list = array(j["segments"], sp);
@@ -213,8 +225,11 @@ std::string session_text(const Session& s) {
                   {"inner", s.current.parameters().inner},
                   {"anisotropic", s.current.parameters().anisotropic},
                   {"multiresolution", s.current.parameters().multiresolution},
-                  {"nonlinear", s.current.parameters().nonlinear},
-                  {"preserve_volume", s.current.parameters().preserve_volume}}}};
+                  {"nonlinear", s.current.parameters().deformation == Deformation::Nonlinear},
+                  {"preserve_volume", s.current.parameters().nonlinear.preserve_volume},
+                  {"max_iterations", s.current.parameters().nonlinear.max_iterations},
+                  {"tolerance", s.current.parameters().nonlinear.tolerance},
+                  {"allow_unanchored", s.current.parameters().allow_unanchored}}}};
   if (!s.current.parameters().segments.empty()) {
     Json segments = Json::array();
     for (const SmoothnessSegment& seg : s.current.parameters().segments) {

@@ -7,6 +7,7 @@
 #include "freeform/edit/edit_json.h"
 #include "freeform/edit/edit_solver.h"
 #include "freeform/common/error.h"
+#include "freeform/io/file_util.h"
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/generators.h"
 #include "test_support.h"
@@ -52,7 +53,7 @@ int setup(Document& doc, bool multires = true, bool nonlinear = false) {
   const Mesh& m = doc.rest_mesh();
   EditParameters p;
   p.multiresolution = multires;
-  p.nonlinear = nonlinear;
+  p.deformation = nonlinear ? Deformation::Nonlinear : Deformation::Linear;
   doc.set_parameters(p);
   doc.set_region(PaintMode::Support, disc(m, Vec3(0.5, 0.5, 0), 0.4), false);
   doc.set_region(PaintMode::Handle, disc(m, Vec3(0.5, 0.5, 0), 0.1), false);
@@ -138,6 +139,32 @@ TEST(Document, FramesChangeOnlyTheTouchedVerticesUntilAReset) {
   doc.set_region(PaintMode::Support, disc(doc.rest_mesh(), Vec3(0.5, 0.85, 0), 0.04), true);  // new regions
   doc.wait_for_precompute();
   EXPECT_GT(doc.display_reset_version(), reset);
+}
+
+// Every key of docs/edit-format.md that an edit can set survives Import edit -> Export edit, compared
+// key by key with the file's own writer (until 2026-11-28 the editor dropped allow_unanchored and
+// nonlinear.max_iterations / tolerance).
+TEST(Document, ImportThenExportKeepsEveryKeyOfTheEditFile) {
+  test::ScratchDir dir;
+  Document doc;
+  doc.open_mesh(Mesh::from_soup(make_bumpy_plane(20, 20, 0.05, 2.0)), "");
+  const std::string in = (dir / "in.json").string(), out = (dir / "out.json").string();
+  write_file_atomic(in, R"({"order": 3, "smoothness": {"outer": 1.5, "inner": 0.5}, "anisotropic": true,
+    "multiresolution": false, "deformation": "nonlinear", "allow_unanchored": true,
+    "nonlinear": {"max_iterations": 250, "tolerance": 3e-5, "preserve_volume": false},
+    "support": {"sphere": {"center": [0.5, 0.5, 0], "radius": 0.4}},
+    "handles": [{"region": {"sphere": {"center": [0.5, 0.5, 0], "radius": 0.1}},
+                 "transform": {"matrix": [[1, 0, 0, 0.02], [0, 1, 0, 0], [0, 0, 1, 0.1], [0, 0, 0, 1]]}},
+                {"region": {"sphere": {"center": [0.75, 0.5, 0], "radius": 0.06}}, "fixed": true}]})");
+  doc.import_edit(in);
+  doc.export_edit(out);
+  const Json expected = edit_to_json(read_edit_file(in, doc.rest_mesh()));
+  const Json exported = edit_to_json(read_edit_file(out, doc.rest_mesh()));
+  for (const auto& [key, value] : expected.items()) {
+    ASSERT_TRUE(exported.contains(key)) << key;
+    EXPECT_EQ(exported[key], value) << key;
+  }
+  EXPECT_EQ(exported.size(), expected.size());
 }
 
 TEST(Document, ExportedEditReplaysTheDisplayAndImportRestoresTheState) {

@@ -151,12 +151,18 @@ TEST(EditState, EditRoundTripsThroughJsonAndFromEdit) {
   p.outer = 0.5;
   p.anisotropic = true;
   p.multiresolution = false;
-  p.nonlinear = true;
-  p.preserve_volume = false;
+  p.deformation = Deformation::Nonlinear;
+  p.nonlinear.preserve_volume = false;
+  p.nonlinear.max_iterations = 250;
+  p.nonlinear.tolerance = 3e-5;
+  p.allow_unanchored = true;
   s.set_parameters(p);
   const Edit e = s.to_edit(mesh);
   EXPECT_EQ(e.deformation, Deformation::Nonlinear);
   EXPECT_FALSE(e.nonlinear.preserve_volume);
+  EXPECT_EQ(e.nonlinear.max_iterations, 250);
+  EXPECT_EQ(e.nonlinear.tolerance, 3e-5);
+  EXPECT_TRUE(e.allow_unanchored);
   ASSERT_EQ(e.handles.size(), 2u);
   EXPECT_TRUE(e.handles[0].matrix.has_value());
   EXPECT_FALSE(e.handles[1].movable);
@@ -176,6 +182,9 @@ TEST(EditState, EditRoundTripsThroughJsonAndFromEdit) {
   EXPECT_TRUE(back.settings.anisotropic);
   EXPECT_FALSE(back.multiresolution);
   EXPECT_FALSE(back.nonlinear.preserve_volume);
+  EXPECT_EQ(back.nonlinear.max_iterations, 250);
+  EXPECT_EQ(back.nonlinear.tolerance, 3e-5);
+  EXPECT_TRUE(back.allow_unanchored);
 
   const EditState again = EditState::from_edit(back, mesh, 10);
   EXPECT_EQ(again.support_vertices(), s.support_vertices());

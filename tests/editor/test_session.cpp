@@ -59,7 +59,11 @@ void build(Document& doc, const test::ScratchDir& dir) {
   move_handle(doc, doc.active_handle(), Vec3(0.02, 0, 0.05), -15);
   EditParameters p = doc.parameters();
   p.inner = 0.75;
-  p.preserve_volume = false;  // saved even while the linear model is chosen
+  // Saved even while the linear model is chosen, with the model's other options.
+  p.nonlinear.preserve_volume = false;
+  p.nonlinear.max_iterations = 250;
+  p.nonlinear.tolerance = 3e-5;
+  p.allow_unanchored = true;
   doc.set_parameters(p);
   doc.wait_for_precompute();
 }

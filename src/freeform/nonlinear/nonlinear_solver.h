@@ -66,6 +66,7 @@ struct NonlinearOptions {
   // survey set-ups and the S-bent plane; 116 -> 61 on the editor benchmark's armadillo twist
   // (195 -> 139 on the bunny).
   int acceleration = 5;
+  bool operator==(const NonlinearOptions&) const = default;
 };
 
 // The state of the last solve: how far it got and how long it took.
