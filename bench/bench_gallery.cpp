@@ -12,6 +12,7 @@
 // against the BCM base; --out then writes the default encoding's k = 2 result per case.
 #include "bench_meshes.h"
 #include "build_paths.h"
+#include "multires/detail_heights.h"
 #include "nonlinear/gallery_cases.h"
 
 #include "freeform/edit/edit_solver.h"
@@ -226,20 +227,6 @@ Eigen::Affine3d moderate(const Eigen::Affine3d& t) {
   return out;
 }
 
-// Heights along the area-weighted vertex normals of `base` (free vertices of `regions`).
-std::vector<double> detail_heights(const Mesh& m, const Regions& regions, const VertexData<Vec3>& x,
-                                   const VertexData<Vec3>& base) {
-  VertexData<Vec3> n(static_cast<std::size_t>(m.n_vertices()), Vec3::Zero());
-  for (Face f : m.faces()) {
-    const auto v = m.vertices(f);
-    const Vec3 fn = (base[v[1]] - base[v[0]]).cross(base[v[2]] - base[v[0]]);
-    for (Vertex w : v) n[w] += fn;
-  }
-  std::vector<double> h;
-  for (Vertex v : regions.free_vertices()) h.push_back((x[v] - base[v]).dot(n[v].normalized()));
-  return h;
-}
-
 // The linear model's multiresolution with one encoding: the counts of quality(), and the height
 // errors of the tall detail (|h| above half its largest) against the BCM base (multiresolution
 // off), median and max.
@@ -261,14 +248,9 @@ nlohmann::json run_linear_multires(const Shape& shape, int order, MultiresOption
     solver.evaluate(transforms, p);
     plain.evaluate(std::vector<Eigen::Affine3d>(transforms.size(), Eigen::Affine3d::Identity()), base0);
     plain.evaluate(transforms, base1);
-    const std::vector<double> h0 = detail_heights(s.mesh, plain.regions(), s.mesh.positions(), base0);
-    const std::vector<double> h1 = detail_heights(s.mesh, plain.regions(), p, base1);
-    double tallest = 0;
-    for (double h : h0) tallest = std::max(tallest, std::abs(h));
-    std::vector<double> err;
-    for (std::size_t i = 0; i < h0.size(); ++i)
-      if (std::abs(h0[i]) > 0.5 * tallest) err.push_back(std::abs(h1[i] - h0[i]) / std::abs(h0[i]));
-    std::sort(err.begin(), err.end());
+    const std::vector<double> h0 = test::detail_heights(s.mesh, plain.regions(), s.mesh.positions(), base0);
+    const std::vector<double> h1 = test::detail_heights(s.mesh, plain.regions(), p, base1);
+    const std::vector<double> err = test::tall_height_errors(h0, h1);
     j["height_error_median"] = err.empty() ? 0.0 : err[err.size() / 2];
     j["height_error_max"] = err.empty() ? 0.0 : err.back();
     j["flipped"] = solver.problems(p).flipped;

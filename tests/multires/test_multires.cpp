@@ -8,6 +8,7 @@
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/generators.h"
 #include "freeform/mesh/traversal.h"
+#include "detail_heights.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>
@@ -18,6 +19,8 @@
 #include <numbers>
 
 using namespace freeform;
+using freeform::test::detail_heights;
+using freeform::test::vertex_normals;
 
 namespace {
 
@@ -52,18 +55,6 @@ Regions bfs_regions(const Mesh& mesh, Vertex seed, int n_support, int n_handle) 
   handle.vertices.assign(support.begin(), support.begin() + n_handle);
   std::sort(handle.vertices.begin(), handle.vertices.end());
   return Regions(mesh, support, {handle});
-}
-
-// Area-weighted unit vertex normals of the given positions.
-VertexData<Vec3> vertex_normals(const Mesh& mesh, const VertexData<Vec3>& p) {
-  VertexData<Vec3> n(static_cast<std::size_t>(mesh.n_vertices()), Vec3::Zero());
-  for (Face f : mesh.faces()) {
-    const auto vs = mesh.vertices(f);
-    const Vec3 fn = (p[vs[1]] - p[vs[0]]).cross(p[vs[2]] - p[vs[0]]);
-    for (Vertex v : vs) n[v] += fn;
-  }
-  for (Vec3& x : n) x.normalize();
-  return n;
 }
 
 Vec3 face_normal(const Mesh& mesh, const VertexData<Vec3>& p, Face f) {
@@ -259,13 +250,6 @@ struct BumpyStrip {
 };
 
 // Heights of the free vertices along the base normals: (x_i - b_i) . n_i.
-std::vector<double> heights(const Mesh& mesh, const Regions& regions, const VertexData<Vec3>& x, const VertexData<Vec3>& base) {
-  const VertexData<Vec3> n = vertex_normals(mesh, base);
-  std::vector<double> h;
-  for (Vertex v : regions.free_vertices()) h.push_back((x[v] - base[v]).dot(n[v]));
-  return h;
-}
-
 double rms(const std::vector<double>& h) {
   double s = 0;
   for (double x : h) s += x * x;
@@ -284,18 +268,18 @@ TEST(Multires, BumpsSurviveATranslatedHandleStrip) {
   VertexData<Vec3> rest = s.mesh.positions(), rest_base = s.mesh.positions();
   solver.evaluate(identity(1), rest);
   solver.base_positions(rest_base);
-  const std::vector<double> h0 = heights(s.mesh, s.regions, s.mesh.positions(), rest_base);
+  const std::vector<double> h0 = detail_heights(s.mesh, s.regions, s.mesh.positions(), rest_base);
 
   VertexData<Vec3> x = s.mesh.positions(), base = s.mesh.positions();
   solver.evaluate(tf, x);
   solver.base_positions(base);
-  const std::vector<double> h1 = heights(s.mesh, s.regions, x, base);
+  const std::vector<double> h1 = detail_heights(s.mesh, s.regions, x, base);
   EXPECT_TRUE(solver.problems(x).ok());
 
   // Plain BCM: the support is the fair surface, the bumps are gone.
   VertexData<Vec3> plain = s.mesh.positions();
   solver.bcm().evaluate(tf, plain);
-  const std::vector<double> hp = heights(s.mesh, s.regions, plain, base);
+  const std::vector<double> hp = detail_heights(s.mesh, s.regions, plain, base);
 
   double max_dev = 0, max_h0 = 0;
   for (std::size_t i = 0; i < h0.size(); ++i) {
@@ -435,13 +419,10 @@ TEST_P(ArmadilloBackPlates, KeepTheirHeightOnThePapersBase) {
   solver.evaluate(std::vector<Eigen::Affine3d>{edit}, x);
   plain.evaluate(identity(1), base0);
   plain.evaluate(std::vector<Eigen::Affine3d>{edit}, base1);
-  const std::vector<double> h0 = heights(mesh, regions, mesh.positions(), base0), h1 = heights(mesh, regions, x, base1);
+  const std::vector<double> h0 = detail_heights(mesh, regions, mesh.positions(), base0), h1 = detail_heights(mesh, regions, x, base1);
   double max_h = 0;
   for (double h : h0) max_h = std::max(max_h, std::abs(h));
-  std::vector<double> errors;
-  for (std::size_t i = 0; i < h0.size(); ++i)
-    if (std::abs(h0[i]) > 0.5 * max_h) errors.push_back(std::abs(h1[i] - h0[i]) / std::abs(h0[i]));
-  std::sort(errors.begin(), errors.end());
+  const std::vector<double> errors = test::tall_height_errors(h0, h1);
   const MultiresProblems pr = solver.problems(x);
   std::printf("armadillo back plates: %zu free, %zu tall (|h| > %.2f); height error median %.2f%%, max %.2f%%; flipped %d\n",
               h0.size(), errors.size(), 0.5 * max_h, 100 * errors[errors.size() / 2], 100 * errors.back(), pr.flipped);

@@ -286,7 +286,9 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
   for (int it = 0; it < max_iterations; ++it) {
     // Global step: the rest's Laplacian coordinates with each edge rotated and scaled by the
     // mean of its ends (ARAP's right-hand side), minus the rest's own: exactly zero at rest.
-    //   A_pp (x_p - rest_p) = outer * b1 - A_pc (x_c - rest_c)
+    //   A_pp (x_p - rest_p) = outer * b1 + mu b_mem - A_pc (x_c - rest_c)
+    // (mu b_mem: the membrane term, add_membrane; b_mem is b1's free rows unless the membrane
+    // turns its edges with its own 1-ring rotations.)
     const int n_local = static_cast<int>(d.q.size());
     parallel_rows(n_local, [&](int i) {
       const auto ui = static_cast<std::size_t>(i);
@@ -296,10 +298,10 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
       return [&r](Eigen::Index i) -> const Eigen::Matrix3d& { return r[static_cast<std::size_t>(i)]; };
     };
     rotated_edges(lap, d.rest.data(), n_inner, p, field(d.rot), d.b1);
-    // The membrane term (add_membrane): + mu b on the free rows, b turned by its own rotations.
     Eigen::MatrixXd rhs = d.sys->outer * d.b1 - d.ac;
-    if (d.mu != 0.0 && !d.local_membrane) rhs += d.mu * d.b1.topRows(p);
-    if (d.local_membrane) {
+    if (!d.local_membrane) {
+      if (d.mu != 0.0) rhs += d.mu * d.b1.topRows(p);
+    } else {
       parallel_rows(p, [&](int i) {
         const auto ui = static_cast<std::size_t>(i);
         d.rot_local[ui] = d.scale[ui] * d.q_local[ui].toRotationMatrix() - Eigen::Matrix3d::Identity();
