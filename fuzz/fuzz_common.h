@@ -16,13 +16,13 @@
 
 namespace freeform::fuzz {
 
-using Reader = TriangleSoup (*)(std::string_view, const std::string&, std::vector<std::string>&);
+using Reader = void (*)(std::string_view, const std::string&, ReadResult&);
 
 inline int run(Reader reader, const std::uint8_t* data, std::size_t size) {
-  std::vector<std::string> warnings;
-  TriangleSoup soup;
+  ReadResult result;
+  const TriangleSoup& soup = result.soup;
   try {
-    soup = reader(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz-input", warnings);
+    reader(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz-input", result);
   } catch (const InternalError&) {
     throw;  // a bug: let it crash
   } catch (const Error&) {
@@ -35,6 +35,16 @@ inline int run(Reader reader, const std::uint8_t* data, std::size_t size) {
   for (const Tri& f : soup.faces)
     for (int v : f)
       if (v < 0 || v >= n) std::abort();
+  // What a reader keeps besides the soup must index within itself.
+  const MeshAttributes& a = result.attributes;
+  for (const int v : a.polygons.corners)
+    if (v < 0 || v >= n) std::abort();
+  if (a.polygons.size() > 0 && a.triangle_polygon.size() != soup.faces.size()) std::abort();
+  for (const CornerAttribute* c : {&a.uv, &a.normal})
+    for (const int row : c->index)
+      if (row < -1 || row >= c->rows() || c->index.size() != a.polygons.corners.size()) std::abort();
+  for (const NamedAttribute& v : a.vertex)
+    if (v.values.size() != soup.positions.size() * static_cast<std::size_t>(v.width)) std::abort();
   return 0;
 }
 

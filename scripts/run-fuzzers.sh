@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (CMake preset `fuzz`, clang) and runs each one: the mesh readers
-# (obj off ply stl), edit files (edit), .sel/.def files (seldef) and editor sessions (session);
+# (obj off ply stl gltf), edit files (edit), .sel/.def files (seldef) and editor sessions (session);
 # then the Python module's entry points (python: fuzz/fuzz_python_api.py on the release build).
 #
 #   scripts/run-fuzzers.sh [seconds-per-target] [target ...]     (default 60, all targets)
 #
-# Seeds come from data/tiny (copied into a scratch corpus under build/fuzz/corpus, not in git;
-# FUZZ_WORK_DIR overrides the location). Crash reproducers are written to <work>/artifacts/<fmt>/.
+# Seeds come from data/tiny (gltf: the assimp-testmodels glTF2 samples under 64 KiB, when
+# installed), copied into a scratch corpus under build/fuzz/corpus, not in git (FUZZ_WORK_DIR
+# overrides the location). Crash reproducers are written to <work>/artifacts/<fmt>/.
 # Exits non-zero if any fuzzer found a crash, leak, timeout or out-of-memory input.
 set -euo pipefail
 
@@ -15,7 +16,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 work="${FUZZ_WORK_DIR:-$root/build/fuzz/corpus}"
 shift || true
-targets=(obj off ply stl edit seldef session python)
+targets=(obj off ply stl gltf edit seldef session python)
 [ "$#" -gt 0 ] && targets=("$@")
 native=()
 for t in "${targets[@]}"; do [ "$t" != python ] && native+=("$t"); done
@@ -55,6 +56,14 @@ for t in "${targets[@]}"; do
       for f in data/edits/*.sel data/edits/*.def; do
         { [ "${f##*.}" = sel ] && printf 0 || printf 1; cat "$f"; } >"$corpus/seed-$(basename "$f")"
       done
+      seeds=() ;;
+    gltf)  # /usr/share/assimp/models/glTF2 (assimp-testmodels): the small .gltf and .glb samples
+      if [ -d /usr/share/assimp/models/glTF2 ]; then
+        while IFS= read -r -d '' f; do
+          rel="${f#/usr/share/assimp/models/glTF2/}"
+          cp "$f" "$corpus/seed-${rel//\//_}"
+        done < <(find /usr/share/assimp/models/glTF2 -type f \( -name '*.gltf' -o -name '*.glb' \) -size -64k -print0)
+      fi
       seeds=() ;;
     *) seeds=(data/tiny/*."$t") ;;
   esac

@@ -23,27 +23,35 @@ void run(const ConvertOptions& opt) {
   if (!opt.in_format.empty()) ro.format = parse_mesh_format(opt.in_format);
   WriteOptions wo;
   wo.format = opt.out_format.empty() ? format_from_path(opt.out) : parse_mesh_format(opt.out_format);
-  wo.binary = !opt.ascii;
+  if (opt.ascii) wo.binary = false;
   if (same_file(opt.in, opt.out) && !opt.overwrite_input)
     throw InvalidInput("output " + opt.out + " is the input file; pass --overwrite-input to replace it");
 
   ReadResult read = read_mesh(opt.in, ro);
   for (const auto& w : read.warnings) fmt::print(stderr, "warning: {}\n", w);
-  TriangleSoup soup = std::move(read.soup);
   if (opt.repair) {
     BuildReport report;
-    soup = Mesh::from_soup(soup, BuildOptions{.repair = true}, &report).to_soup();
+    TriangleSoup repaired = Mesh::from_soup(read.soup, BuildOptions{.repair = true}, &report).to_soup();
     for (const auto& c : report.changes) fmt::print(stderr, "repair: {}\n", c);
     if (report.changes.size() < static_cast<std::size_t>(report.dropped_faces + report.split_vertices))
       fmt::print(stderr, "repair: ... {} faces dropped, {} vertices split in all\n", report.dropped_faces,
                  report.split_vertices);
+    if (report.changed()) {
+      // Polygons and attributes refer to the faces and vertices the repair changed.
+      fmt::print(stderr, "repair: the repaired mesh is written as triangles without the input's attributes\n");
+      read.soup = std::move(repaired);
+      read.attributes = {};
+      read.source.reset();
+    }
   }
   try {
-    write_mesh(opt.out, soup, wo);
+    for (const std::string& d : write_mesh(opt.out, read, read.soup.positions, wo))
+      fmt::print(stderr, "note: {} cannot hold the input's {}\n", opt.out, d);
   } catch (const Error& e) {
     throw OutputError(e.what());
   }
-  fmt::print("wrote {} ({} vertices, {} faces, {})\n", opt.out, soup.positions.size(), soup.faces.size(),
+  fmt::print("wrote {} ({} vertices, {} faces, {})\n", opt.out, read.soup.positions.size(),
+             read.attributes.polygons.size() > 0 ? read.attributes.polygons.size() : static_cast<int>(read.soup.faces.size()),
              format_name(wo.format));
 }
 
@@ -51,12 +59,12 @@ void run(const ConvertOptions& opt) {
 
 void add_convert_command(CLI::App& app) {
   auto opt = std::make_shared<ConvertOptions>();
-  CLI::App* cmd = app.add_subcommand("convert", "Convert a mesh between OBJ, OFF, PLY and STL");
+  CLI::App* cmd = app.add_subcommand("convert", "Convert a mesh between OBJ, OFF, PLY, STL and glTF, keeping what both formats can hold");
   cmd->add_option("IN", opt->in, "Input mesh")->required();
   cmd->add_option("OUT", opt->out, "Output mesh; format from the extension")->required();
-  cmd->add_option("--in-format", opt->in_format, "Input format, overriding the extension (obj|off|ply|stl)");
-  cmd->add_option("--out-format", opt->out_format, "Output format, overriding the extension (obj|off|ply|stl)");
-  cmd->add_flag("--ascii", opt->ascii, "Write PLY/STL as text instead of binary");
+  cmd->add_option("--in-format", opt->in_format, "Input format, overriding the extension (obj|off|ply|stl|gltf)");
+  cmd->add_option("--out-format", opt->out_format, "Output format, overriding the extension (obj|off|ply|stl|gltf)");
+  cmd->add_flag("--ascii", opt->ascii, "Write PLY/STL as text (default: the input's encoding when converting to its own format, else binary)");
   cmd->add_flag("--repair", opt->repair,
                 "Split non-manifold vertices and drop faces with a repeated index (reported on stderr)");
   cmd->add_flag("--overwrite-input", opt->overwrite_input, "Allow OUT to be the input file");

@@ -69,10 +69,6 @@ void run(const DeformOptions& opt) {
   ReadResult read = read_mesh(opt.in);
   for (const auto& w : read.warnings) fmt::print(stderr, "warning: {}\n", w);
   const Mesh mesh = Mesh::from_soup(read.soup);
-  // The output keeps the input's faces; its positions come from the solve. Freeing them now
-  // keeps 58 MB out of the precompute's peak at 2.4M vertices.
-  const std::size_t n_positions = read.soup.positions.size();
-  std::vector<Vec3>().swap(read.soup.positions);
 
   Edit edit = opt.edit.empty() ? edit_from_sel_def(opt.sel, opt.def, opt.order, mesh) : read_edit_file(opt.edit, mesh);
   if (!opt.deformation.empty())
@@ -93,9 +89,8 @@ void run(const DeformOptions& opt) {
   const double reconstruct_ms = median(frames, &EditTimings::reconstruction_ms);
   const EditProblems problems = solver.problems(positions);
   require_finite(problems, transforms);
-  TriangleSoup soup = std::move(read.soup);
-  soup.positions.resize(n_positions);
-  for (std::size_t i = 0; i < n_positions; ++i) soup.positions[i] = positions[Vertex(static_cast<int>(i))];
+  // The output is the input file with the solve's positions (and everything else it held).
+  const std::span<const Vec3> out_positions(positions.raw().data(), read.soup.positions.size());
 
   Json report = {
       {"input", opt.in},
@@ -112,11 +107,15 @@ void run(const DeformOptions& opt) {
   // Both files are written to temporaries first and renamed only when both succeeded: a
   // failure leaves whatever was there before (an earlier output included) untouched.
   try {
-    PreparedFile mesh_file(opt.out, mesh_bytes(opt.out, soup, wo));
-    std::optional<PreparedFile> report_file;
-    if (!opt.report.empty()) report_file.emplace(opt.report, report.dump(2) + "\n");
-    mesh_file.commit();
-    if (report_file) report_file->commit();
+    MeshBytes bytes = mesh_bytes(opt.out, read, out_positions, wo);
+    for (const std::string& d : bytes.dropped) fmt::print(stderr, "note: {} cannot hold the input's {}\n", opt.out, d);
+    const std::filesystem::path out_folder = std::filesystem::path(opt.out).parent_path();
+    std::vector<std::unique_ptr<PreparedFile>> files;
+    for (const auto& [name, data] : bytes.companions)
+      files.push_back(std::make_unique<PreparedFile>((out_folder / name).string(), data));
+    files.push_back(std::make_unique<PreparedFile>(opt.out, bytes.data));
+    if (!opt.report.empty()) files.push_back(std::make_unique<PreparedFile>(opt.report, report.dump(2) + "\n"));
+    for (const auto& f : files) f->commit();
   } catch (const Error& e) {
     throw OutputError(e.what());
   }
@@ -124,7 +123,7 @@ void run(const DeformOptions& opt) {
   const BcmStats& st = solver.stats().bcm;
   const std::optional<MultiresStats>& ms = solver.stats().multires;
   fmt::print("wrote {} ({} vertices, {} faces): order {}, {} free, {} fixed, {} handles; solver {}, evaluate {:.3f} ms\n",
-             opt.out, soup.positions.size(), soup.faces.size(), edit.settings.order, regions.n_free(), regions.n_fixed(),
+             opt.out, read.soup.positions.size(), read.soup.faces.size(), edit.settings.order, regions.n_free(), regions.n_fixed(),
              regions.handles().size(), st.solver, evaluate_ms);
   if (const NonlinearState* ns = solver.nonlinear_state()) {
     fmt::print("nonlinear: {} iterations, residual {:.2g}, {:.1f} ms\n", ns->iterations, ns->step, ns->ms);
@@ -182,7 +181,7 @@ void run(const DeformOptions& opt) {
 void add_deform_command(CLI::App& app) {
   auto opt = std::make_shared<DeformOptions>();
   CLI::App* cmd = app.add_subcommand("deform", "Apply a BCM edit (support, handles, transforms) to a mesh");
-  cmd->add_option("IN", opt->in, "Input mesh (OBJ, OFF, PLY, STL; must be manifold)")->required();
+  cmd->add_option("IN", opt->in, "Input mesh (OBJ, OFF, PLY, STL, glTF; must be manifold)")->required();
   CLI::Option* edit = cmd->add_option("--edit", opt->edit, "Edit file (JSON, docs/edit-format.md)");
   CLI::Option* sel = cmd->add_option("--sel", opt->sel, "Botsch-Sorkine .sel file: 0 fixed, 1 free, 2 handle per vertex");
   CLI::Option* def = cmd->add_option("--def", opt->def, "Botsch-Sorkine .def file: the handle's 4x4 matrix");

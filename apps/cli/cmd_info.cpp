@@ -126,7 +126,7 @@ void add_info_command(CLI::App& app) {
   auto opt = std::make_shared<InfoOptions>();
   CLI::App* cmd = app.add_subcommand("info", "Print counts, bounding box, topology and defects of a mesh");
   cmd->add_option("MESH", opt->path, "Mesh file (.obj, .off, .ply, .stl)")->required();
-  cmd->add_option("--format", opt->format, "Input format, overriding the extension (obj|off|ply|stl)");
+  cmd->add_option("--format", opt->format, "Input format, overriding the extension (obj|off|ply|stl|gltf)");
   cmd->add_flag("--json", opt->json, "Print JSON instead of text");
   cmd->footer(
       "Topology (components, loops, genus) is of the mesh after splitting non-manifold vertices.\n"

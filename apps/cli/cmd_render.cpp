@@ -172,7 +172,7 @@ void run(const RenderOptions& opt) {
 void add_render_command(CLI::App& app) {
   auto opt = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Render a mesh (optionally an edit's regions and result) to a PNG, headless");
-  cmd->add_option("MESH", opt->mesh, "Input mesh (OBJ, OFF, PLY, STL; must be manifold)")->required();
+  cmd->add_option("MESH", opt->mesh, "Input mesh (OBJ, OFF, PLY, STL, glTF; must be manifold)")->required();
   cmd->add_option("--edit", opt->edit, "Edit file (docs/edit-format.md): colour its regions and apply it");
   cmd->add_option("-o,--output", opt->out, "Output PNG")->required();
   cmd->add_option("--size", opt->size, "Image size WIDTHxHEIGHT")->capture_default_str();

@@ -102,7 +102,7 @@ void App::popups() {
       if (!save_path_.empty()) {
         save_mesh(save_path_, go_on);
       } else {
-        ask_path("Save mesh as, then go on", "mesh path (.obj .off .ply .stl)", suggested_save_path(),
+        ask_path("Save mesh as, then go on", "mesh path (.obj .off .ply .stl .gltf .glb)", suggested_save_path(),
                  [this, go_on](const std::string& p) { save_mesh(p, go_on); });
       }
     }

@@ -74,9 +74,11 @@ void App::unless_unsaved(const std::string& what, std::function<void()> action) 
 void App::save_mesh(const std::string& path, const std::function<void()>& then) {
   if (!doc_.has_mesh()) return error("Save: no mesh is open");
   if (path.empty()) return error("Save as: type the output path into the field first");
-  if (attempt("cannot save the mesh", [&] { doc_.save_mesh(path); })) {
+  std::vector<std::string> dropped;
+  if (attempt("cannot save the mesh", [&] { dropped = doc_.save_mesh(path); })) {
     save_path_ = path;
-    info("saved " + path);
+    info(dropped.empty() ? "saved " + path : "saved " + path + " without the input's " + dropped.front() +
+                                                  (dropped.size() > 1 ? fmt::format(" and {} more", dropped.size() - 1) : ""));
     if (then) then();
   }
 }
@@ -91,7 +93,7 @@ std::string App::suggested_save_path() const {
 void App::save_mesh_shortcut() {
   if (!doc_.has_mesh()) return error("Save: no mesh is open");
   if (!save_path_.empty()) return save_mesh(save_path_);
-  ask_path("Save mesh as (the original file is never overwritten)", "mesh path (.obj .off .ply .stl)",
+  ask_path("Save mesh as (the original file is never overwritten)", "mesh path (.obj .off .ply .stl .gltf .glb)",
            suggested_save_path(), [this](const std::string& p) { save_mesh(p); });
 }
 

@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
   CLI::App cli{"Freeform editor: paint regions, drag handles, export edits (docs/editor.md)", "freeform-editor"};
   freeform::editor::AppOptions options;
   std::string size = "1280x800";
-  cli.add_option("mesh", options.mesh, "Mesh to open (OBJ, OFF, PLY, STL)");
+  cli.add_option("mesh", options.mesh, "Mesh to open (OBJ, OFF, PLY, STL, glTF)");
   cli.add_option("--size", size, "Window size WIDTHxHEIGHT")->capture_default_str();
   cli.add_option("--session", options.session, "Session file to load at start (regions, parameters, edit, history)");
   cli.add_option("--frame-log", options.frame_log,

@@ -45,7 +45,7 @@ void App::build_ui() {
 void App::panel_file() {
   if (!ImGui::CollapsingHeader("File", ImGuiTreeNodeFlags_DefaultOpen)) return;
   ImGui::SetNextItemWidth(-1);
-  if (ImGui::InputTextWithHint("##path", "mesh path (.obj .off .ply .stl)", &path_field_,
+  if (ImGui::InputTextWithHint("##path", "mesh path (.obj .off .ply .stl .gltf .glb)", &path_field_,
                                ImGuiInputTextFlags_EnterReturnsTrue))
     open_mesh(path_field_);
   if (ImGui::Button("Open")) open_mesh(path_field_);
@@ -399,7 +399,7 @@ void App::panel_edit() {
 
 void App::prompt_save_as() {
   if (!doc_.has_mesh()) return;
-  ask_path("Save mesh as (the original file is never overwritten)", "mesh path (.obj .off .ply .stl)",
+  ask_path("Save mesh as (the original file is never overwritten)", "mesh path (.obj .off .ply .stl .gltf .glb)",
            suggested_save_path(), [this](const std::string& p) { save_mesh(p); });
 }
 

@@ -30,6 +30,7 @@ struct PyEdit {
 
 void bind_errors(py::module_& m);
 void bind_mesh(py::module_& m);
+void bind_mesh_file(py::module_& m);
 void bind_edit(py::module_& m);
 void bind_solver(py::module_& m);
 

@@ -5,6 +5,9 @@
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/generators.h"
 
+#include <pybind11/stl.h>
+
+
 namespace freeform::python {
 namespace {
 
@@ -73,10 +76,10 @@ void bind_mesh(py::module_& m) {
         return build(std::move(read.soup), repair);
       },
       py::arg("path"), py::kw_only(), py::arg("repair") = false,
-      "Reads OBJ, OFF, PLY or STL (by extension) into a Mesh. Raises IoError 'file:line: message'.");
+      "Reads OBJ, OFF, PLY, STL or glTF (by extension) into a Mesh (read_mesh_file keeps the file's attributes). Raises IoError 'file:line: message'.");
   m.def(
       "write_mesh",
-      [](py::handle path, py::handle vertices, py::handle faces, bool binary) {
+      [](py::handle path, py::handle vertices, py::handle faces, py::object binary) {
         const std::string p = to_path(path);
         TriangleSoup soup;
         if (py::isinstance<Mesh>(vertices) && faces.is_none()) {
@@ -86,13 +89,15 @@ void bind_mesh(py::module_& m) {
           soup = {to_positions(vertices, "vertices"), to_faces(faces, "faces")};
         }
         WriteOptions options;
-        options.binary = binary;
+        // py::object, not std::optional<bool>: gcc 12 warns that the caster's optional may be
+        // uninitialized (a false positive under -Werror).
+        if (!binary.is_none()) options.binary = binary.cast<bool>();
         py::gil_scoped_release release;
         write_mesh(p, soup, options);
       },
-      py::arg("path"), py::arg("vertices"), py::arg("faces") = py::none(), py::kw_only(), py::arg("binary") = true,
-      "Writes (vertices: (n, 3) real numbers, faces: (m, 3) integers) or a Mesh as OBJ, OFF, PLY or STL (by extension; binary PLY/STL unless "
-      "binary=False) atomically: a temporary file renamed over `path`. OFF, OBJ and PLY keep doubles exactly, "
+      py::arg("path"), py::arg("vertices"), py::arg("faces") = py::none(), py::kw_only(), py::arg("binary") = py::none(),
+      "Writes (vertices: (n, 3) real numbers, faces: (m, 3) integers) or a Mesh as OBJ, OFF, PLY, STL or glTF (by extension; binary PLY/STL unless "
+      "binary=False; write_mesh_file keeps a file's attributes) atomically: a temporary file renamed over `path`. OFF, OBJ and PLY keep doubles exactly, "
       "STL stores float32.");
 
   m.def("make_plane", [](int nx, int ny, double w, double h) { return build(make_plane(nx, ny, w, h), false); },

@@ -9,6 +9,7 @@ PYBIND11_MODULE(_freeform, m) {
       "EditSolver once, evaluate it per frame. See docs/python.md.";
   bind_errors(m);
   bind_mesh(m);
+  bind_mesh_file(m);
   bind_edit(m);
   bind_solver(m);
 }

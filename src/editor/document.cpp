@@ -41,7 +41,8 @@ void Document::open(const std::string& path) {
   ReadResult read = read_mesh(path);
   Mesh mesh = Mesh::from_soup(read.soup);  // as `freeform deform`: no repair, vertex order kept
   reset(std::make_shared<const Mesh>(std::move(mesh)), path);
-  warnings_ = std::move(read.warnings);
+  warnings_ = read.warnings;
+  file_ = std::make_shared<const ReadResult>(std::move(read));
 }
 
 void Document::open_mesh(Mesh mesh, const std::string& path) {
@@ -51,6 +52,7 @@ void Document::open_mesh(Mesh mesh, const std::string& path) {
 
 void Document::reset(std::shared_ptr<const Mesh> rest, std::string path) {
   job_.cancel();
+  file_.reset();
   rest_ = std::move(rest);
   path_ = std::move(path);
   state_ = EditState(rest_->n_vertices());
@@ -514,17 +516,19 @@ void Document::wait_for_precompute() {
   update_display();
 }
 
-void Document::save_mesh(const std::string& path, bool allow_overwrite_input) {
+std::vector<std::string> Document::save_mesh(const std::string& path, bool allow_overwrite_input) {
   require_mesh();
   const bool input = !path_.empty() && same_file(path, path_);
   if (input && !allow_overwrite_input)
     throw InvalidInput("\"" + path + "\" is the input mesh: save under another name or allow overwriting the input");
   settle_display();
-  TriangleSoup soup = rest_->to_soup();
-  for (std::size_t i = 0; i < soup.positions.size(); ++i) soup.positions[i] = display_[Vertex(static_cast<int>(i))];
-  write_mesh(path, soup);
+  // The file as it was read, with the display positions: its polygons, UVs, colours... kept.
+  ReadResult generated;
+  if (!file_) generated.soup = rest_->to_soup();
+  std::vector<std::string> dropped = write_mesh(path, file_ ? *file_ : generated, display_.raw(), {});
   input_overwritten_ = input_overwritten_ || input;
   dirty_ = false;
+  return dropped;
 }
 
 void Document::export_edit(const std::string& path) const {
@@ -566,6 +570,7 @@ void Document::load_session(const std::string& path) {
   LoadedSession loaded = load_session_file(path);  // throws before anything changes
   reset(std::make_shared<const Mesh>(std::move(loaded.rest)), loaded.mesh_file);
   warnings_ = std::move(loaded.warnings);
+  file_ = std::move(loaded.file);
   applied_ = std::move(loaded.applied);
   state_ = std::move(loaded.current);
   active_ = loaded.active_handle;

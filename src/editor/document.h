@@ -19,6 +19,7 @@
 #include "editor/history.h"
 #include "editor/precompute_job.h"
 #include "freeform/edit/drag_session.h"
+#include "freeform/io/mesh_io.h"
 
 #include <cstdint>
 #include <memory>
@@ -156,9 +157,11 @@ class Document {
   void wait_for_precompute();
 
   // --- files (atomic writes; IoError / InvalidInput) ---
-  // Writes the display positions (write_mesh, format by extension). Refuses the original
-  // mesh file unless allow_overwrite_input. Clears dirty().
-  void save_mesh(const std::string& path, bool allow_overwrite_input = false);
+  // Writes the display positions (write_mesh, format by extension) into the file as it was
+  // read, so its polygons, texture coordinates, colours... are kept. Refuses the original
+  // mesh file unless allow_overwrite_input. Clears dirty(). Returns what the target format
+  // could not hold of the input (empty in the input's own format).
+  std::vector<std::string> save_mesh(const std::string& path, bool allow_overwrite_input = false);
   // The current edit relative to rest_mesh() (vertex-index selectors, exact "matrix"
   // transforms): `freeform deform REST --edit FILE` reproduces the display bit for bit once
   // solver_current(). InvalidInput if the regions have a problem.
@@ -188,6 +191,7 @@ class Document {
   std::shared_ptr<const Mesh> rest_;
   std::string path_;
   std::vector<std::string> warnings_;
+  std::shared_ptr<const ReadResult> file_;  // the opened file; null for a mesh from memory
   EditState state_;
   History history_;
   std::vector<Edit> applied_;

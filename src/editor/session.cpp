@@ -281,8 +281,9 @@ LoadedSession load_session_file(const std::string& path) {
   LoadedSession out;
   out.mesh_file = session_mesh_file(s, path);
   ReadResult read = read_mesh(out.mesh_file);
-  out.warnings = std::move(read.warnings);
+  out.warnings = read.warnings;
   out.rest = Mesh::from_soup(read.soup);
+  out.file = std::make_shared<const ReadResult>(std::move(read));
   if (out.rest.n_vertices() != s.n_vertices)
     throw InvalidInput(path + ": the mesh " + out.mesh_file + " has " + std::to_string(out.rest.n_vertices()) +
                        " vertices, the session was saved with " + std::to_string(s.n_vertices) + ": the mesh file changed");

@@ -23,6 +23,7 @@
 #include "editor/edit_state.h"
 #include "freeform/common/json_reader.h"
 #include "freeform/edit/edit.h"
+#include "freeform/io/mesh_io.h"
 #include "freeform/mesh/mesh.h"
 
 #include <string>
@@ -61,6 +62,7 @@ std::string session_mesh_file(const Session& session, const std::string& session
 struct LoadedSession {
   std::string mesh_file;              // the file that was read
   std::vector<std::string> warnings;  // from the mesh reader
+  std::shared_ptr<const ReadResult> file;  // everything it held (saving keeps it)
   Mesh rest;                          // the original with the applied edits baked in
   std::vector<Edit> applied;
   EditState current;

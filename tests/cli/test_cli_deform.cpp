@@ -4,11 +4,13 @@
 #include "cli/cli_runner.h"
 #include "param/param_fixtures.h"
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <fstream>
+#include <sstream>
 
 using namespace freeform;
 using ::testing::HasSubstr;
@@ -360,4 +362,53 @@ TEST(CliDeform, AnisotropicReportAndFallback) {
   EXPECT_EQ(j["anisotropic"]["requested"], true);
   EXPECT_EQ(j["anisotropic"]["used"], false);
   EXPECT_THAT(j["anisotropic"]["fallback"].get<std::string>(), HasSubstr("genus 1"));
+}
+
+// A textured quad grid (as kGoodEdit's grid, 400 quads) with normals, groups and a material:
+// `deform` writes it back with only `v` and `vn` lines changed; another format says what it drops.
+TEST(CliDeform, KeepsEverythingTheFileHeld) {
+  const Workspace s;
+  std::string obj = "# textured grid\nmtllib grid.mtl\no grid\n";
+  for (int j = 0; j <= 20; ++j)
+    for (int i = 0; i <= 20; ++i) obj += fmt::format("v {} {} 0\n", i / 20.0, j / 20.0);
+  for (int j = 0; j <= 20; ++j)
+    for (int i = 0; i <= 20; ++i) obj += fmt::format("vt {} {}\n", i / 20.0, j / 20.0);
+  obj += "vn 0 0 1\n";
+  for (int j = 0; j < 20; ++j) {
+    obj += fmt::format("g row{}\nusemtl {}\ns 1\n", j, j % 2 ? "dark" : "light");
+    for (int i = 0; i < 20; ++i) {
+      const int a = j * 21 + i + 1, b = a + 1, c = a + 22, d = a + 21;
+      obj += fmt::format("f {0}/{0}/1 {1}/{1}/1 {2}/{2}/1 {3}/{3}/1\n", a, b, c, d);
+    }
+  }
+  const auto in = s.dir / "grid.obj", out = s.dir / "out.obj";
+  write_text(in, obj);
+  CliRun r = freeform_cli("deform " + q(in) + " --edit " + q(s.edit(kGoodEdit)) + " -o " + q(out));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, ::testing::Not(HasSubstr("note:")));
+  const std::string written = slurp(out);
+  std::istringstream a(obj), b(written);
+  int v_changed = 0, vn_changed = 0;
+  for (std::string la, lb; std::getline(a, la);) {
+    ASSERT_TRUE(std::getline(b, lb));
+    if (la.rfind("v ", 0) == 0)
+      v_changed += la != lb;
+    else if (la.rfind("vn ", 0) == 0)
+      vn_changed += la != lb;
+    else
+      ASSERT_EQ(la, lb);
+  }
+  EXPECT_GT(v_changed, 20);
+  EXPECT_LT(v_changed, 441);  // the fixed part keeps its text
+  EXPECT_EQ(vn_changed, 1);   // the one shared normal is recomputed for the bent grid
+  const ReadResult back = read_mesh(out.string());
+  EXPECT_EQ(back.attributes.polygons.size(), 400);
+  EXPECT_EQ(back.attributes.uv.rows(), 441);
+
+  // STL cannot hold polygons or texture coordinates: said on stderr, still written.
+  r = freeform_cli("deform " + q(in) + " --edit " + q(s.edit(kGoodEdit)) + " -o " + q(s.dir / "out.stl"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("cannot hold the input's polygons"));
+  EXPECT_THAT(r.err, HasSubstr("texture coordinates"));
+  EXPECT_THAT(r.err, HasSubstr("groups"));
 }

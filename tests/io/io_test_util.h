@@ -19,29 +19,37 @@ namespace freeform::test {
 
 inline std::string tiny(const std::string& file) { return (data_dir() / "tiny" / file).string(); }
 
-inline TriangleSoup read_mem(MeshFormat format, std::string_view data, const std::string& name,
-                             std::vector<std::string>* warnings = nullptr) {
-  std::vector<std::string> w;
-  TriangleSoup soup;
+// Reads in-memory data with the format's reader (everything it kept).
+inline ReadResult read_file_mem(MeshFormat format, std::string_view data, const std::string& name) {
+  ReadResult r;
   switch (format) {
     case MeshFormat::Obj:
-      soup = read_obj(data, name, w);
+      read_obj(data, name, r);
       break;
     case MeshFormat::Off:
-      soup = read_off(data, name, w);
+      read_off(data, name, r);
       break;
     case MeshFormat::Ply:
-      soup = read_ply(data, name, w);
+      read_ply(data, name, r);
       break;
     case MeshFormat::Stl:
-      soup = read_stl(data, name, w);
+      read_stl(data, name, r);
+      break;
+    case MeshFormat::Gltf:
+      read_gltf(data, name, r);
       break;
     case MeshFormat::Auto:
       ADD_FAILURE() << "no format";
       break;
   }
-  if (warnings) *warnings = w;
-  return soup;
+  return r;
+}
+
+inline TriangleSoup read_mem(MeshFormat format, std::string_view data, const std::string& name,
+                             std::vector<std::string>* warnings = nullptr) {
+  ReadResult r = read_file_mem(format, data, name);
+  if (warnings) *warnings = r.warnings;
+  return std::move(r.soup);
 }
 
 // The IoError message of reading `data` (empty, plus a test failure, when nothing is thrown).

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <filesystem>
+#include <optional>
 
 namespace freeform {
 namespace {
@@ -29,6 +30,8 @@ bool try_parse_format(std::string_view name, MeshFormat& out) {
     out = MeshFormat::Ply;
   else if (n == "stl")
     out = MeshFormat::Stl;
+  else if (n == "gltf" || n == "glb")
+    out = MeshFormat::Gltf;
   else
     return false;
   return true;
@@ -43,7 +46,7 @@ MeshFormat resolve(MeshFormat requested, const std::string& path) {
 MeshFormat parse_mesh_format(std::string_view name) {
   MeshFormat format{};
   if (!try_parse_format(name, format))
-    throw InvalidInput(fmt::format("unknown mesh format '{}' (expected obj, off, ply or stl)", name));
+    throw InvalidInput(fmt::format("unknown mesh format '{}' (expected obj, off, ply, stl, gltf or glb)", name));
   return format;
 }
 
@@ -53,7 +56,7 @@ MeshFormat format_from_path(const std::string& path) {
   MeshFormat format{};
   if (ext.empty() || !try_parse_format(ext, format))
     throw IoError(path, 0,
-                  "unknown mesh file extension (expected .obj, .off, .ply or .stl, or give the format explicitly)");
+                  "unknown mesh file extension (expected .obj, .off, .ply, .stl, .gltf or .glb, or give the format explicitly)");
   return format;
 }
 
@@ -69,6 +72,8 @@ const char* format_name(MeshFormat format) {
       return "ply";
     case MeshFormat::Stl:
       return "stl";
+    case MeshFormat::Gltf:
+      return "gltf";
   }
   return "unknown";
 }
@@ -79,21 +84,105 @@ ReadResult read_mesh(const std::string& path, const ReadOptions& options) {
   ReadResult result;
   switch (format) {
     case MeshFormat::Obj:
-      result.soup = read_obj(data, path, result.warnings);
+      read_obj(data, path, result);
       break;
     case MeshFormat::Off:
-      result.soup = read_off(data, path, result.warnings);
+      read_off(data, path, result);
       break;
     case MeshFormat::Ply:
-      result.soup = read_ply(data, path, result.warnings);
+      read_ply(data, path, result);
       break;
     case MeshFormat::Stl:
-      result.soup = read_stl(data, path, result.warnings);
+      read_stl(data, path, result);
+      break;
+    case MeshFormat::Gltf:
+      read_gltf(data, path, result);
       break;
     case MeshFormat::Auto:
       FF_CHECK(false, "format not resolved");
   }
   return result;
+}
+
+namespace {
+
+// Never write what the readers refuse: a non-finite coordinate, or one beyond STL's floats.
+void check_positions(const std::string& path, MeshFormat format, std::span<const Vec3> positions) {
+  const double limit = format == MeshFormat::Stl ? double(std::numeric_limits<float>::max())
+                                                 : std::numeric_limits<double>::max();
+  for (std::size_t v = 0; v < positions.size(); ++v)
+    for (const double c : positions[v])
+      if (!(std::abs(c) <= limit))
+        throw InvalidInput(path + ": cannot write vertex " + std::to_string(v) + ": its coordinate " +
+                           fmt::format("{}", c) +
+                           (std::isfinite(c) ? " is beyond the single precision of STL" : " is not finite"));
+}
+
+bool has_extension(const std::string& path, std::string_view ext) {
+  return lower(std::filesystem::path(path).extension().string()) == ext;
+}
+
+// A new file of `format` from the soup and what it can hold of the attributes.
+std::string new_file(MeshFormat format, const std::string& path, const TriangleSoup& soup, const MeshAttributes& a,
+                     std::optional<bool> binary, std::vector<std::string>& dropped) {
+  switch (format) {
+    case MeshFormat::Obj:
+      return write_obj(soup, a, dropped);
+    case MeshFormat::Off:
+      return write_off(soup, a, dropped);
+    case MeshFormat::Ply:
+      return write_ply(soup, binary.value_or(true), a, dropped);
+    case MeshFormat::Gltf:
+      return write_gltf(soup, binary.value_or(has_extension(path, ".glb")), a, dropped);
+    case MeshFormat::Stl: {
+      const bool polygons = a.polygons.size() > 0 && a.polygons.corners.size() != 3 * static_cast<std::size_t>(a.polygons.size());
+      if (polygons) dropped.push_back("polygons (STL holds triangles)");
+      if (!a.uv.empty()) dropped.push_back("texture coordinates (STL has none)");
+      if (!a.normal.empty()) dropped.push_back("vertex normals (STL has facet normals only)");
+      for (const NamedAttribute& v : a.vertex) dropped.push_back(fmt::format("vertex property '{}' (STL has none)", v.name));
+      for (const NamedAttribute& f : a.face) dropped.push_back(fmt::format("face property '{}' (STL has none)", f.name));
+      return write_stl(soup, binary.value_or(true));
+    }
+    case MeshFormat::Auto:
+      break;
+  }
+  FF_CHECK(false, "format not resolved");
+  return {};
+}
+
+}  // namespace
+
+MeshBytes mesh_bytes(const std::string& path, const ReadResult& file, std::span<const Vec3> positions,
+                     const WriteOptions& options) {
+  const MeshFormat format = resolve(options.format, path);
+  if (positions.size() != file.soup.positions.size())
+    throw InvalidInput(fmt::format("{}: {} positions given for a mesh of {} vertices", path, positions.size(),
+                                   file.soup.positions.size()));
+  check_positions(path, format, positions);
+  MeshBytes out;
+  // A read glTF is always rewritten: its source writes either container (.gltf or .glb, by the
+  // path's extension).
+  const bool same_encoding = format == MeshFormat::Gltf || !options.binary || (file.source && *options.binary == file.source->binary());
+  if (file.source && format == file.format && same_encoding) {
+    out.data = file.source->rewrite(file, positions, out.companions, path);
+    return out;
+  }
+  TriangleSoup soup{{positions.begin(), positions.end()}, file.soup.faces};
+  MeshAttributes attributes = file.attributes;
+  attributes.normal.values = recomputed_normals(attributes.polygons, attributes.normal, positions, file.soup.positions);
+  out.data = new_file(format, path, soup, attributes, options.binary, out.dropped);
+  if (file.source && !file.source->kept_only_by_rewrite().empty())
+    out.dropped.push_back(file.source->kept_only_by_rewrite() + fmt::format(" (only kept when writing {} again)", format_name(file.format)));
+  return out;
+}
+
+std::vector<std::string> write_mesh(const std::string& path, const ReadResult& file, std::span<const Vec3> positions,
+                                    const WriteOptions& options) {
+  MeshBytes bytes = mesh_bytes(path, file, positions, options);
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  for (const auto& [name, data] : bytes.companions) write_file_atomic((folder / name).string(), data);
+  write_file_atomic(path, bytes.data);
+  return bytes.dropped;
 }
 
 void write_mesh(const std::string& path, const TriangleSoup& soup, const WriteOptions& options) {
@@ -102,33 +191,9 @@ void write_mesh(const std::string& path, const TriangleSoup& soup, const WriteOp
 
 std::string mesh_bytes(const std::string& path, const TriangleSoup& soup, const WriteOptions& options) {
   const MeshFormat format = resolve(options.format, path);
-  // Never write what the readers refuse: a non-finite coordinate, or one beyond STL's floats.
-  const double limit = format == MeshFormat::Stl ? double(std::numeric_limits<float>::max())
-                                                 : std::numeric_limits<double>::max();
-  for (std::size_t v = 0; v < soup.positions.size(); ++v)
-    for (const double c : soup.positions[v])
-      if (!(std::abs(c) <= limit))
-        throw InvalidInput(path + ": cannot write vertex " + std::to_string(v) + ": its coordinate " +
-                           fmt::format("{}", c) +
-                           (std::isfinite(c) ? " is beyond the single precision of STL" : " is not finite"));
-  std::string data;
-  switch (format) {
-    case MeshFormat::Obj:
-      data = write_obj(soup);
-      break;
-    case MeshFormat::Off:
-      data = write_off(soup);
-      break;
-    case MeshFormat::Ply:
-      data = write_ply(soup, options.binary);
-      break;
-    case MeshFormat::Stl:
-      data = write_stl(soup, options.binary);
-      break;
-    case MeshFormat::Auto:
-      FF_CHECK(false, "format not resolved");
-  }
-  return data;
+  check_positions(path, format, soup.positions);
+  std::vector<std::string> dropped;
+  return new_file(format, path, soup, MeshAttributes{}, options.binary, dropped);
 }
 
 }  // namespace freeform

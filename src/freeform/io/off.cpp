@@ -1,11 +1,13 @@
-// Geomview OFF ([ST][C][N][4][n]OFF), ascii only. One vertex or face per line; values after the
-// coordinates (normals, colours, texture coordinates) and after a face's indices (colour) are
-// ignored; '#' starts a comment anywhere.
+// Geomview OFF ([ST][C][N][4][n]OFF), ascii only. One vertex or face per line: coordinates, then
+// the normal (N), colour (C) and texture coordinates (ST) the keyword declares; a face's indices,
+// then an optional colour. '#' starts a comment anywhere.
 #include "freeform/io/mesh_io.h"
+#include "freeform/io/text_patch.h"
 #include "freeform/io/text_scan.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace freeform {
@@ -29,6 +31,7 @@ bool next_content_line(io_detail::LineReader& lines, std::string_view& line) {
 }
 
 struct Header {
+  bool uv = false, color = false, normal = false;  // ST, C, N: per-vertex values after x y z
   bool homogeneous = false;  // 4OFF: x y z w
   bool has_dim = false;      // nOFF: dimension given before the counts
 };
@@ -39,26 +42,65 @@ bool parse_keyword(std::string_view kw, Header& header) {
     kw.remove_prefix(prefix.size());
     return true;
   };
-  eat("ST");
-  eat("C");
-  eat("N");
+  header.uv = eat("ST");
+  header.color = eat("C");
+  header.normal = eat("N");
   header.homogeneous = eat("4");
   header.has_dim = eat("n");
   return kw == "OFF";
 }
 
-}  // namespace
+// Colours in 0..255 (integers) or 0..1: a file with any component above 1 is scaled by 1/255.
+// A colour attribute from r g b a rows: alpha dropped when the file gave none.
+NamedAttribute color_attribute(std::vector<double> rgba, bool alpha) {
+  if (std::any_of(rgba.begin(), rgba.end(), [](double c) { return c > 1.0; }))
+    for (double& c : rgba) c /= 255.0;
+  if (alpha) return {"color", 4, std::move(rgba)};
+  std::vector<double> rgb;
+  rgb.reserve(rgba.size() / 4 * 3);
+  for (std::size_t i = 0; i < rgba.size(); i += 4) rgb.insert(rgb.end(), rgba.begin() + static_cast<std::ptrdiff_t>(i), rgba.begin() + static_cast<std::ptrdiff_t>(i + 3));
+  return {"color", 3, std::move(rgb)};
+}
 
-TriangleSoup read_off(std::string_view data, const std::string& name, std::vector<std::string>& warnings) {
-  if (data.empty()) fail(name, 0, "empty file");
-  io_detail::LineReader lines(data, name);
-  std::string_view line;
-  if (!next_content_line(lines, line)) fail(name, lines.line_number(), "empty file (no OFF header)");
+// Keeps the file and where its positions and normals are, to rewrite them.
+class OffSource final : public FileSource {
+ public:
+  OffSource(std::string_view data, std::vector<io_detail::NumberRun> positions,
+            std::vector<io_detail::NumberRun> normals)
+      : data_(data), positions_(std::move(positions)), normals_(std::move(normals)) {}
 
+  std::string rewrite(const ReadResult& file, std::span<const Vec3> positions,
+                      std::vector<std::pair<std::string, std::string>>&, const std::string&) const override {
+    const std::vector<double> normals =
+        recomputed_normals(file.attributes.polygons, file.attributes.normal, positions, file.soup.positions);
+    std::vector<io_detail::NumberRun> runs = positions_;
+    for (std::size_t v = 0; v < runs.size(); ++v) {
+      runs[v].values = positions[v].data();
+      runs[v].old = file.soup.positions[v].data();
+    }
+    for (std::size_t v = 0; v < normals_.size(); ++v) {
+      io_detail::NumberRun run = normals_[v];
+      run.values = normals.data() + 3 * v;
+      run.old = file.attributes.normal.values.data() + 3 * v;
+      runs.push_back(run);
+    }
+    return io_detail::patch_numbers(data_, std::move(runs));
+  }
+
+ private:
+  std::string data_;
+  std::vector<io_detail::NumberRun> positions_, normals_;
+};
+
+struct Counts {
+  std::uint64_t vertices = 0, faces = 0;
+};
+
+Counts read_header(io_detail::LineReader& lines, std::string_view& line, Header& header) {
+  if (!next_content_line(lines, line)) fail(lines.name(), lines.line_number(), "empty file (no OFF header)");
   io_detail::Tokens tokens(line);
   std::string_view keyword;
   tokens.next(keyword);
-  Header header;
   if (!parse_keyword(keyword, header))
     lines.fail(
         fmt::format("missing OFF header: expected OFF, COFF, NOFF, STOFF, 4OFF, ... but found {}", quote(keyword)));
@@ -67,7 +109,6 @@ TriangleSoup read_off(std::string_view data, const std::string& name, std::vecto
     std::string_view tok;
     if (peek.next(tok) && tok == "BINARY") lines.fail("binary OFF is not supported (only ascii OFF)");
   }
-
   // Counts: on the header line or on the following lines. The rest of the line holding the face
   // count (usually the edge count) is ignored.
   auto header_value = [&](const char* what) {
@@ -80,50 +121,111 @@ TriangleSoup read_off(std::string_view data, const std::string& name, std::vecto
     if (!io_detail::parse_int(tok, value)) lines.fail(fmt::format("invalid {} {}", what, quote(tok)));
     return value;
   };
-  std::size_t dim = 3;
   if (header.has_dim) {
     const std::uint64_t d = header_value("dimension");
     if (d != 3) lines.fail(fmt::format("only 3-dimensional nOFF files are supported (dimension {})", d));
-    dim = 3;
   }
-  const std::uint64_t nv = header_value("vertex count");
-  const std::uint64_t nf = header_value("face count");
-  if (nv > io_detail::kMaxElements) lines.fail(fmt::format("vertex count {} is too large", nv));
-  if (nf > io_detail::kMaxElements) lines.fail(fmt::format("face count {} is too large", nf));
-  if (nv == 0) lines.fail("no vertices (vertex count is 0)");
-  if (nf == 0) lines.fail("no faces (face count is 0)");
-  const std::size_t coords = dim + (header.homogeneous ? 1 : 0);
+  Counts counts;
+  counts.vertices = header_value("vertex count");
+  counts.faces = header_value("face count");
+  if (counts.vertices > io_detail::kMaxElements) lines.fail(fmt::format("vertex count {} is too large", counts.vertices));
+  if (counts.faces > io_detail::kMaxElements) lines.fail(fmt::format("face count {} is too large", counts.faces));
+  if (counts.vertices == 0) lines.fail("no vertices (vertex count is 0)");
+  if (counts.faces == 0) lines.fail("no faces (face count is 0)");
+  return counts;
+}
 
-  TriangleSoup soup;
-  soup.positions.reserve(io_detail::capped_reserve(nv, lines.remaining(), 2 * coords));
+// Up to `max` numbers left on a line (fewer when a token is not a number).
+int rest_numbers(io_detail::Tokens& tokens, double* values, int max) {
+  int n = 0;
+  std::string_view tok;
+  while (n < max && tokens.next(tok) && io_detail::parse_double(tok, values[n]) && std::isfinite(values[n])) ++n;
+  return n;
+}
+
+struct VertexExtras {
+  std::vector<double> normals, colors, uv;  // colours as r g b a
+  bool alpha = false;                          // some colour had 4 values
+  std::vector<io_detail::NumberRun> position_runs, normal_runs;
+};
+
+// x y z [w], then the values the keyword declares: normal (3), colour (3 or 4), uv (2).
+void read_vertex(std::string_view data, io_detail::LineReader& lines, std::string_view line, std::uint64_t i,
+                 const Header& header, TriangleSoup& soup, VertexExtras& extras) {
+  io_detail::Tokens tokens(line);
+  const std::size_t coords = header.homogeneous ? 4 : 3;
+  double c[4] = {0, 0, 0, 1};
+  std::string_view first, last;
+  for (std::size_t k = 0; k < coords; ++k) {
+    std::string_view tok;
+    if (!tokens.next(tok)) lines.fail(fmt::format("vertex {} has fewer than {} coordinates", i, coords));
+    if (!io_detail::parse_double(tok, c[k])) lines.fail(fmt::format("vertex {}: invalid coordinate {}", i, quote(tok)));
+    if (!std::isfinite(c[k])) lines.fail(fmt::format("vertex {} has a non-finite coordinate {}", i, quote(tok)));
+    if (k == 0) first = tok;
+    last = tok;
+  }
+  if (header.homogeneous) {
+    if (c[3] == 0.0) lines.fail(fmt::format("vertex {} has homogeneous coordinate w = 0", i));
+    for (int k = 0; k < 3; ++k) c[k] /= c[3];
+    if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
+      lines.fail(fmt::format("vertex {} is not finite after dividing by w", i));
+  }
+  extras.position_runs.push_back(io_detail::run_of(data, first, last));
+  soup.positions.emplace_back(c[0], c[1], c[2]);
+  double rest[9];
+  io_detail::Tokens probe = tokens;
+  const int n = rest_numbers(probe, rest, 9);
+  const int n_normal = header.normal ? 3 : 0, n_uv = header.uv ? 2 : 0;
+  const int n_color = header.color ? n - n_normal - n_uv : 0;
+  if (n < n_normal + n_uv || (header.color && n_color != 3 && n_color != 4))
+    lines.fail(fmt::format("vertex {} has {} values after its coordinates; the header declares{}{}{}", i, n,
+                           header.normal ? " a normal" : "", header.color ? " a colour (3 or 4 values)" : "",
+                           header.uv ? " texture coordinates" : ""));
+  if (header.normal) {
+    std::string_view tok, nfirst, nlast;
+    for (int k = 0; k < 3; ++k) {
+      tokens.next(tok);
+      if (k == 0) nfirst = tok;
+      nlast = tok;
+    }
+    extras.normal_runs.push_back(io_detail::run_of(data, nfirst, nlast));
+    extras.normals.insert(extras.normals.end(), rest, rest + 3);
+  }
+  if (header.color) {
+    extras.alpha = extras.alpha || n_color == 4;
+    extras.colors.insert(extras.colors.end(), rest + n_normal, rest + n_normal + 4);
+    if (n_color == 3) extras.colors.back() = 1.0;
+  }
+  if (header.uv) extras.uv.insert(extras.uv.end(), rest + n_normal + n_color, rest + n_normal + n_color + 2);
+}
+
+}  // namespace
+
+void read_off(std::string_view data, const std::string& name, ReadResult& out) {
+  if (data.empty()) fail(name, 0, "empty file");
+  out.format = MeshFormat::Off;
+  io_detail::LineReader lines(data, name);
+  std::string_view line;
+  Header header;
+  const auto [nv, nf] = read_header(lines, line, header);
+  TriangleSoup& soup = out.soup;
+  VertexExtras extras;
+  soup.positions.reserve(io_detail::capped_reserve(nv, lines.remaining(), header.homogeneous ? 8 : 6));
   for (std::uint64_t i = 0; i < nv; ++i) {
     if (!next_content_line(lines, line))
       lines.fail(fmt::format("unexpected end of file: header declares {} vertices, found {}", nv, i));
-    tokens = io_detail::Tokens(line);
-    double c[4] = {0, 0, 0, 1};
-    for (std::size_t k = 0; k < coords; ++k) {
-      std::string_view tok;
-      if (!tokens.next(tok)) lines.fail(fmt::format("vertex {} has fewer than {} coordinates", i, coords));
-      if (!io_detail::parse_double(tok, c[k]))
-        lines.fail(fmt::format("vertex {}: invalid coordinate {}", i, quote(tok)));
-      if (!std::isfinite(c[k])) lines.fail(fmt::format("vertex {} has a non-finite coordinate {}", i, quote(tok)));
-    }
-    if (header.homogeneous) {
-      if (c[3] == 0.0) lines.fail(fmt::format("vertex {} has homogeneous coordinate w = 0", i));
-      for (int k = 0; k < 3; ++k) c[k] /= c[3];
-      if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
-        lines.fail(fmt::format("vertex {} is not finite after dividing by w", i));
-    }
-    soup.positions.emplace_back(c[0], c[1], c[2]);
+    read_vertex(data, lines, line, i, header, soup, extras);
   }
 
   io_detail::FanCounter fan;
   std::vector<int> poly;
+  std::vector<double> face_colors;
+  bool all_faces_colored = true, face_alpha = false;
   soup.faces.reserve(io_detail::capped_reserve(nf, lines.remaining(), 8));
   for (std::uint64_t f = 0; f < nf; ++f) {
     if (!next_content_line(lines, line))
       lines.fail(fmt::format("unexpected end of file: header declares {} faces, found {}", nf, f));
-    tokens = io_detail::Tokens(line);
+    io_detail::Tokens tokens(line);
     std::string_view tok;
     tokens.next(tok);
     std::uint64_t n = 0;
@@ -138,24 +240,95 @@ TriangleSoup read_off(std::string_view data, const std::string& name, std::vecto
         lines.fail(fmt::format("face {}: vertex index {} out of range (file has {} vertices)", f, index, nv));
       poly.push_back(static_cast<int>(index));
     }
-    fan.add(poly, soup.faces);  // any colour after the indices is ignored
+    fan.add(poly, soup.faces, &out.attributes);
+    double color[4] = {1, 1, 1, 1};
+    const int n_color = rest_numbers(tokens, color, 4);  // a colour-map index (1 value) is not kept
+    all_faces_colored = all_faces_colored && n_color >= 3;
+    face_alpha = face_alpha || n_color == 4;
+    face_colors.insert(face_colors.end(), color, color + 4);
   }
   if (next_content_line(lines, line))
-    warnings.push_back(fmt::format("{}:{}: data after the last face ignored", name, lines.line_number()));
-  fan.warn(warnings);
-  return soup;
+    out.warnings.push_back(fmt::format("{}:{}: data after the last face ignored", name, lines.line_number()));
+  fan.warn(out.warnings);
+
+  MeshAttributes& a = out.attributes;
+  const std::vector<int> by_vertex(a.polygons.corners);
+  if (header.normal) a.normal = {3, extras.normals, by_vertex};
+  if (header.uv) a.uv = {2, std::move(extras.uv), by_vertex};
+  if (header.color) a.vertex.push_back(color_attribute(std::move(extras.colors), extras.alpha));
+  if (all_faces_colored) a.face.push_back(color_attribute(std::move(face_colors), face_alpha));
+  // Homogeneous and n-dimensional files are written as plain OFF (their w is not kept).
+  if (!header.homogeneous && !header.has_dim)
+    out.source = std::make_shared<OffSource>(data, std::move(extras.position_runs), std::move(extras.normal_runs));
 }
 
-std::string write_off(const TriangleSoup& soup) {
+namespace {
+
+void append_values(std::string& out, const std::vector<double>& values, std::size_t row, int width) {
+  for (int k = 0; k < width; ++k) {
+    out += ' ';
+    io_detail::append_number(out, values[row * static_cast<std::size_t>(width) + static_cast<std::size_t>(k)]);
+  }
+}
+
+// A corner attribute as per-vertex values, or empty (and a note in `dropped`) at a seam.
+std::vector<double> vertex_values(const MeshAttributes& a, const CornerAttribute& c, int n_vertices, const char* what,
+                                  std::vector<std::string>& dropped) {
+  if (c.empty() || a.polygons.size() == 0) return {};
+  std::optional<std::vector<double>> values = per_vertex_values(a.polygons, c, n_vertices);
+  if (!values) dropped.push_back(fmt::format("{} with seams (OFF stores one per vertex)", what));
+  return values ? std::move(*values) : std::vector<double>{};
+}
+
+}  // namespace
+
+std::string write_off(const TriangleSoup& soup, const MeshAttributes& attributes, std::vector<std::string>& dropped) {
   io_detail::check_soup_for_writing(soup);
+  const int n = static_cast<int>(soup.positions.size());
+  const std::vector<double> normals = vertex_values(attributes, attributes.normal, n, "normals", dropped);
+  const std::vector<double> uv = vertex_values(attributes, attributes.uv, n, "texture coordinates", dropped);
+  const NamedAttribute* color = attributes.vertex_attribute("color");
+  const NamedAttribute* face_color = nullptr;
+  for (const NamedAttribute& a : attributes.face)
+    if (a.name == "color") face_color = &a;
+  const Polygons& polygons = attributes.polygons;
+  const bool keep_polygons = polygons.size() > 0;
   std::string out;
   out.reserve(soup.positions.size() * 64 + soup.faces.size() * 32 + 64);
-  out += "OFF\n";
-  io_detail::append_number(out, static_cast<std::int64_t>(soup.positions.size()));
+  out += fmt::format("{}{}{}OFF\n", uv.empty() ? "" : "ST", color ? "C" : "", normals.empty() ? "" : "N");
+  io_detail::append_number(out, static_cast<std::int64_t>(n));
   out += ' ';
-  io_detail::append_number(out, static_cast<std::int64_t>(soup.faces.size()));
+  io_detail::append_number(out, static_cast<std::int64_t>(keep_polygons ? polygons.size() : soup.faces.size()));
   out += " 0\n";
-  io_detail::append_ascii_vertices_and_faces(out, soup);
+  for (std::size_t v = 0; v < soup.positions.size(); ++v) {
+    for (int k = 0; k < 3; ++k) {
+      if (k > 0) out += ' ';
+      io_detail::append_number(out, soup.positions[v][k]);
+    }
+    if (!normals.empty()) append_values(out, normals, v, 3);
+    if (color != nullptr) append_values(out, color->values, v, color->width);
+    if (!uv.empty()) append_values(out, uv, v, 2);
+    out += '\n';
+  }
+  const int n_faces = keep_polygons ? polygons.size() : static_cast<int>(soup.faces.size());
+  for (int f = 0; f < n_faces; ++f) {
+    const auto p = static_cast<std::size_t>(f);
+    const std::span<const int> corners =
+        keep_polygons ? std::span<const int>(polygons.corners).subspan(static_cast<std::size_t>(polygons.offsets[p]),
+                                                                        static_cast<std::size_t>(polygons.corner_count(f)))
+                      : std::span<const int>(soup.faces[p]);
+    io_detail::append_number(out, static_cast<std::int64_t>(corners.size()));
+    for (const int v : corners) {
+      out += ' ';
+      io_detail::append_number(out, static_cast<std::int64_t>(v));
+    }
+    if (face_color != nullptr && keep_polygons) append_values(out, face_color->values, p, face_color->width);
+    out += '\n';
+  }
+  for (const NamedAttribute& a : attributes.vertex)
+    if (a.name != "color") dropped.push_back(fmt::format("vertex property '{}' (OFF has no custom properties)", a.name));
+  for (const NamedAttribute& a : attributes.face)
+    if (a.name != "color") dropped.push_back(fmt::format("face property '{}' (OFF has no custom properties)", a.name));
   return out;
 }
 

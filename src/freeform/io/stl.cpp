@@ -184,9 +184,11 @@ std::array<float, 3> face_normal(const TriangleSoup& soup, const Tri& f) {
 
 }  // namespace
 
-TriangleSoup read_stl(std::string_view data, const std::string& name, std::vector<std::string>& warnings) {
+void read_stl(std::string_view data, const std::string& name, ReadResult& out) {
   if (data.empty()) fail(name, 0, "empty file");
-  TriangleSoup soup;
+  out.format = MeshFormat::Stl;
+  std::vector<std::string>& warnings = out.warnings;
+  TriangleSoup& soup = out.soup;
   bool binary_size = false;
   std::uint32_t n = 0;
   if (data.size() >= kHeaderBytes) {
@@ -209,7 +211,6 @@ TriangleSoup read_stl(std::string_view data, const std::string& name, std::vecto
                      n, kHeaderBytes + static_cast<std::uint64_t>(n) * kTriangleBytes, data.size(), room));
   }
   if (soup.faces.empty()) fail(name, 0, "no faces");
-  return soup;
 }
 
 std::string write_stl(const TriangleSoup& soup, bool binary) {

@@ -82,7 +82,12 @@ std::string_view TokenReader::require(const char* what) {
   return token;
 }
 
-void FanCounter::add(const std::vector<int>& poly, std::vector<Tri>& faces) {
+void FanCounter::add(const std::vector<int>& poly, std::vector<Tri>& faces, MeshAttributes* attributes) {
+  if (attributes != nullptr) {
+    const int polygon = attributes->polygons.size();
+    attributes->polygons.add(poly);
+    attributes->triangle_polygon.insert(attributes->triangle_polygon.end(), poly.size() - 2, polygon);
+  }
   for (std::size_t i = 1; i + 1 < poly.size(); ++i) faces.push_back({poly[0], poly[i], poly[i + 1]});
   if (poly.size() > 3) {
     ++polygons;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "freeform/common/error.h"
+#include "freeform/io/mesh_attributes.h"
 #include "freeform/mesh/types.h"
 
 #include <charconv>
@@ -136,11 +137,12 @@ inline std::size_t capped_reserve(std::uint64_t count, std::size_t remaining_byt
 inline constexpr std::uint64_t kMaxElements = 0x7fffffff;
 
 // Fan-triangulates polygon `poly` (at least 3 indices) into `faces`; counts polygons with more
-// than three corners in `polygons` and the triangles they produced in `triangles`.
+// than three corners in `polygons` and the triangles they produced in `triangles`. With
+// `attributes`, the polygon itself is kept there too (Polygons, triangle_polygon).
 struct FanCounter {
   std::size_t polygons = 0;
   std::size_t triangles = 0;
-  void add(const std::vector<int>& poly, std::vector<Tri>& faces);
+  void add(const std::vector<int>& poly, std::vector<Tri>& faces, MeshAttributes* attributes = nullptr);
   // Appends the summary warning if any polygon was split.
   void warn(std::vector<std::string>& warnings) const;
 };

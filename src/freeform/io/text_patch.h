@@ -1,0 +1,31 @@
+// Internal: rewriting a text mesh file with new numbers in place (the positions and normals of
+// OBJ, OFF and ascii PLY), everything else copied byte for byte.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace freeform::io_detail {
+
+// The bytes [begin, end) of the file hold `width` numbers ("x y z") that become `values`;
+// when `old` (the values read) equals `values` the file's text is kept as written.
+struct NumberRun {
+  std::size_t begin = 0, end = 0;
+  const double* values = nullptr;
+  const double* old = nullptr;
+  int width = 3;
+};
+
+// `data` with every run replaced (runs sorted by begin, not overlapping), numbers written in
+// their shortest round-trip form separated by single spaces.
+std::string patch_numbers(std::string_view data, std::vector<NumberRun> runs);
+
+// The byte range of tokens [first, last] of `line` as offsets into `data` (line is a view of it).
+inline NumberRun run_of(std::string_view data, std::string_view first, std::string_view last) {
+  return {static_cast<std::size_t>(first.data() - data.data()),
+          static_cast<std::size_t>(last.data() + last.size() - data.data())};
+}
+
+}  // namespace freeform::io_detail
