@@ -373,17 +373,20 @@ TEST(CliDeform, KeepsEverythingTheFileHeld) {
     for (int i = 0; i <= 20; ++i) obj += fmt::format("v {} {} 0\n", i / 20.0, j / 20.0);
   for (int j = 0; j <= 20; ++j)
     for (int i = 0; i <= 20; ++i) obj += fmt::format("vt {} {}\n", i / 20.0, j / 20.0);
-  obj += "vn 0 0 1\n";
+  for (int k = 0; k < 441; ++k) obj += "vn 0 0 1\n";
   for (int j = 0; j < 20; ++j) {
     obj += fmt::format("g row{}\nusemtl {}\ns 1\n", j, j % 2 ? "dark" : "light");
     for (int i = 0; i < 20; ++i) {
       const int a = j * 21 + i + 1, b = a + 1, c = a + 22, d = a + 21;
-      obj += fmt::format("f {0}/{0}/1 {1}/{1}/1 {2}/{2}/1 {3}/{3}/1\n", a, b, c, d);
+      obj += fmt::format("f {0}/{0}/{0} {1}/{1}/{1} {2}/{2}/{2} {3}/{3}/{3}\n", a, b, c, d);
     }
   }
   const auto in = s.dir / "grid.obj", out = s.dir / "out.obj";
   write_text(in, obj);
-  CliRun r = freeform_cli("deform " + q(in) + " --edit " + q(s.edit(kGoodEdit)) + " -o " + q(out));
+  // A gentle lift (slopes below 20 degrees), so a vertex's normal is close to each of its quads'.
+  const std::string lift = R"({"support": {"geodesic": {"center": [0.5, 0.5, 0], "radius": 0.45}},
+    "handles": [{"region": {"sphere": {"center": [0.5, 0.5, 0], "radius": 0.11}}, "transform": {"translate": [0, 0, 0.06]}}]})";
+  CliRun r = freeform_cli("deform " + q(in) + " --edit " + q(s.edit(lift, "lift.json")) + " -o " + q(out));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.err, ::testing::Not(HasSubstr("note:")));
   const std::string written = slurp(out);
@@ -400,10 +403,27 @@ TEST(CliDeform, KeepsEverythingTheFileHeld) {
   }
   EXPECT_GT(v_changed, 20);
   EXPECT_LT(v_changed, 441);  // the fixed part keeps its text
-  EXPECT_EQ(vn_changed, 1);   // the one shared normal is recomputed for the bent grid
+  EXPECT_GT(vn_changed, 20);  // the bent part's normals are recomputed...
+  EXPECT_LT(vn_changed, 441);  // ...the rest keep theirs as written
   const ReadResult back = read_mesh(out.string());
   EXPECT_EQ(back.attributes.polygons.size(), 400);
   EXPECT_EQ(back.attributes.uv.rows(), 441);
+  // Every corner's normal is unit and within a few degrees of its deformed quad's normal.
+  double worst = 0;
+  const Polygons& polygons = back.attributes.polygons;
+  for (int p = 0; p < polygons.size(); ++p) {
+    const int* c = &polygons.corners[static_cast<std::size_t>(polygons.offsets[static_cast<std::size_t>(p)])];
+    const auto x = [&](int i) { return back.soup.positions[static_cast<std::size_t>(c[i])]; };
+    const Vec3 face = (x(2) - x(0)).cross(x(3) - x(1)).normalized();
+    for (int i = 0; i < 4; ++i) {
+      const int row = back.attributes.normal.index[static_cast<std::size_t>(polygons.offsets[static_cast<std::size_t>(p)] + i)];
+      const Vec3 n(&back.attributes.normal.values[static_cast<std::size_t>(row) * 3]);
+      EXPECT_NEAR(n.norm(), 1.0, 1e-12);
+      worst = std::max(worst, std::acos(std::clamp(n.dot(face), -1.0, 1.0)) * 180 / M_PI);
+    }
+  }
+  EXPECT_LT(worst, 8.0);
+  EXPECT_GT(worst, 0.5);  // the grid did bend
 
   // STL cannot hold polygons or texture coordinates: said on stderr, still written.
   r = freeform_cli("deform " + q(in) + " --edit " + q(s.edit(kGoodEdit)) + " -o " + q(s.dir / "out.stl"));

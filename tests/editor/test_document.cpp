@@ -12,6 +12,8 @@
 #include "freeform/mesh/generators.h"
 #include "test_support.h"
 
+#include <fmt/format.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -22,6 +24,7 @@
 #include <thread>
 #include <optional>
 #include <span>
+#include <sstream>
 
 namespace freeform::editor {
 namespace {
@@ -373,6 +376,50 @@ TEST(Document, FilesAndDirtyFlag) {
     EXPECT_EQ(back.soup.positions[i], doc.display_positions().raw()[i]);
   doc.save_mesh(in, true);  // allowed when asked
   EXPECT_THROW(doc.save_session((dir / "s.json").string()), InvalidInput);  // the original is gone
+}
+
+// Saving writes the opened file back with the display positions: its texture coordinates,
+// groups and materials stay, also after a session round trip; another format says what it drops.
+TEST(Document, SavingKeepsWhatTheFileHeld) {
+  test::ScratchDir dir;
+  const TriangleSoup plane = make_bumpy_plane(12, 12, 0.05, 2.0);
+  std::string obj = "mtllib plane.mtl\ng plane\nusemtl clay\n";
+  for (const Vec3& p : plane.positions) obj += fmt::format("v {} {} {}\nvt {} {}\n", p.x(), p.y(), p.z(), p.x(), p.y());
+  for (const Tri& f : plane.faces) obj += fmt::format("f {0}/{0} {1}/{1} {2}/{2}\n", f[0] + 1, f[1] + 1, f[2] + 1);
+  const std::string in = (dir / "in.obj").string();
+  write_file_atomic(in, obj);
+  Document doc;
+  doc.open(in);
+  const Mesh& m = doc.rest_mesh();
+  doc.set_region(PaintMode::Support, disc(m, Vec3(0.5, 0.5, 0), 0.4), false);
+  doc.set_region(PaintMode::Handle, disc(m, Vec3(0.5, 0.5, 0), 0.1), false);
+  doc.wait_for_precompute();
+  const int id = doc.active_handle();
+  doc.commit_manipulator(id, doc.state().find_handle(id)->manipulator, moved(doc.handle_pivot(id)));
+  const auto without_positions = [](const std::string& text) {
+    std::string out;
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);)
+      if (line.rfind("v ", 0) != 0) out += line + "\n";
+    return out;
+  };
+  const std::string out = (dir / "out.obj").string();
+  EXPECT_TRUE(doc.save_mesh(out).empty());
+  EXPECT_EQ(without_positions(read_file(out)), without_positions(obj));
+  EXPECT_NE(read_file(out), obj);
+  const ReadResult back = read_mesh(out);
+  for (std::size_t i = 0; i < back.soup.positions.size(); ++i)
+    EXPECT_EQ(back.soup.positions[i], doc.display_positions().raw()[i]);
+  EXPECT_THAT(doc.save_mesh((dir / "out.stl").string()), ::testing::Contains(::testing::HasSubstr("texture coordinates")));
+
+  const std::string session = (dir / "s.json").string();
+  doc.save_session(session);
+  Document again;
+  again.load_session(session);
+  again.wait_for_precompute();
+  const std::string out2 = (dir / "out2.obj").string();
+  again.save_mesh(out2);
+  EXPECT_EQ(without_positions(read_file(out2)), without_positions(obj));
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 """A mesh file with everything it holds: polygons, texture coordinates, normals, colours as
 read-only numpy arrays; written back with new positions, keeping them."""
+import base64
+import json
 import os
 import pathlib
 
@@ -70,3 +72,107 @@ def test_ply_colours_are_exposed():
     color = f.vertex_attributes["color"]
     assert color.shape[0] == f.mesh.n_vertices and color.shape[1] in (3, 4)
     assert 0.0 <= color.min() and color.max() <= 1.0
+
+
+# An independent glTF reader for the tests: Python's json and numpy over the buffers.
+def _gltf(path):
+    path = pathlib.Path(path)
+    data = path.read_bytes()
+    if data[:4] == b"glTF":
+        n = int.from_bytes(data[12:16], "little")
+        doc = json.loads(data[20:20 + n])
+        bins = [data[28 + n:]]
+    else:
+        doc = json.loads(data)
+        bins = []
+        for b in doc["buffers"]:
+            uri = b["uri"]
+            bins.append(base64.b64decode(uri.split(",", 1)[1]) if uri.startswith("data:") else
+                        (path.parent / uri).read_bytes())
+    return doc, bins
+
+
+def _accessor(doc, bins, i):
+    a = doc["accessors"][i]
+    view = doc["bufferViews"][a["bufferView"]]
+    width = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}[a["type"]]
+    dtype = {5126: np.float32, 5125: np.uint32, 5123: np.uint16, 5121: np.uint8}[a["componentType"]]
+    size = np.dtype(dtype).itemsize * width
+    stride = view.get("byteStride", size)
+    start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
+    raw = bins[view["buffer"]]
+    rows = [np.frombuffer(raw, dtype, width, start + k * stride) for k in range(a["count"])]
+    return np.array(rows).reshape(a["count"], width)
+
+
+def _node_matrix(node):
+    if "matrix" in node:
+        return np.array(node["matrix"], dtype=np.float64).reshape(4, 4).T
+    m = np.eye(4)
+    x, y, z, w = node.get("rotation", [0, 0, 0, 1])
+    m[:3, :3] = [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                 [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                 [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+    m[:3, :3] = m[:3, :3] * np.array(node.get("scale", [1, 1, 1]))
+    m[:3, 3] = node.get("translation", [0, 0, 0])
+    return m
+
+
+def _world_positions(path):
+    """Every triangle corner's world position, per primitive, in file order."""
+    doc, bins = _gltf(path)
+    out = []
+
+    def walk(i, parent):
+        node = doc["nodes"][i]
+        m = parent @ _node_matrix(node)
+        if "mesh" in node:
+            for prim in doc["meshes"][node["mesh"]]["primitives"]:
+                p = _accessor(doc, bins, prim["attributes"]["POSITION"]).astype(np.float64)
+                idx = _accessor(doc, bins, prim["indices"]).ravel() if "indices" in prim else np.arange(len(p))
+                out.append((p @ m[:3, :3].T + m[:3, 3])[idx])
+        for c in node.get("children", []):
+            walk(c, m)
+
+    for root in doc["scenes"][doc.get("scene", 0)]["nodes"]:
+        walk(root, np.eye(4))
+    return doc, np.concatenate(out)
+
+
+GLTF2 = pathlib.Path("/usr/share/assimp/models/glTF2")
+
+
+@pytest.mark.skipif(not GLTF2.is_dir(), reason="assimp-testmodels not installed")
+@pytest.mark.parametrize("name", ["BoxTextured-glTF/BoxTextured.gltf", "BoxTextured-glTF-Binary/BoxTextured.glb"])
+@pytest.mark.parametrize("out_ext", [".gltf", ".glb"])
+def test_gltf_written_back_reads_in_an_independent_reader(tmp_path, name, out_ext):
+    f = freeform.read_mesh_file(GLTF2 / name)
+    doc_in, corners_in = _world_positions(GLTF2 / name)
+    V = f.mesh.vertices
+    rot = np.array([[0.0, -1, 0], [1, 0, 0], [0, 0, 1]])
+    moved = V @ rot.T * 1.5 + [0.25, -1, 2]
+    freeform.write_mesh_file(tmp_path / ("out" + out_ext), f, moved)
+    doc_out, corners_out = _world_positions(tmp_path / ("out" + out_ext))
+    # Each corner's soup vertex, found from the input's world positions (welded exactly).
+    which = [int(np.flatnonzero((V == c).all(axis=1))[0]) for c in corners_in]
+    assert np.allclose(corners_out, moved[which], atol=1e-5)
+    assert doc_out["materials"] == doc_in["materials"] and doc_out["textures"] == doc_in["textures"]
+    for a_in, a_out in zip(doc_in["accessors"], doc_out["accessors"]):
+        assert a_in["count"] == a_out["count"]
+
+
+@pytest.mark.skipif(not GLTF2.is_dir(), reason="assimp-testmodels not installed")
+def test_new_gltf_from_an_obj_reads_in_an_independent_reader(tmp_path):
+    path = tmp_path / "quad.obj"
+    path.write_text(TEXTURED)
+    f = freeform.read_mesh_file(path)
+    dropped = freeform.write_mesh_file(tmp_path / "quad.glb", f, f.mesh.vertices)
+    assert dropped == ["1 polygon with more than 3 corners (glTF holds triangles: triangulated)",
+                       "materials, material libraries (only kept when writing obj again)"]
+    doc, corners = _world_positions(tmp_path / "quad.glb")
+    assert corners.shape == (9, 3)  # 3 triangles
+    prim = doc["meshes"][0]["primitives"][0]
+    # One glTF vertex per distinct (vertex, uv, normal): vertex 1 is split by its uv seam.
+    assert doc["accessors"][prim["attributes"]["POSITION"]]["count"] == 6
+    assert "TEXCOORD_0" in prim["attributes"] and "NORMAL" in prim["attributes"]
+    assert np.allclose(corners, f.mesh.vertices[f.mesh.faces.ravel()], atol=1e-7)

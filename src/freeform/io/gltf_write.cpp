@@ -74,7 +74,9 @@ CornerRows corner_rows(const TriangleSoup& soup, const MeshAttributes& a, std::v
 void report_dropped(const MeshAttributes& a, const NamedAttribute* color, std::vector<std::string>& dropped) {
   int split = 0;
   for (int p = 0; p < a.polygons.size(); ++p) split += a.polygons.corner_count(p) > 3 ? 1 : 0;
-  if (split > 0) dropped.push_back(fmt::format("{} polygons with more than 3 corners (glTF holds triangles: triangulated)", split));
+  if (split > 0)
+    dropped.push_back(fmt::format("{} polygon{} with more than 3 corners (glTF holds triangles: triangulated)", split,
+                                  split == 1 ? "" : "s"));
   for (const NamedAttribute& v : a.vertex)
     if (&v != color) dropped.push_back(fmt::format("vertex property '{}' (glTF has no custom vertex properties here)", v.name));
   for (const NamedAttribute& f : a.face)
