@@ -80,8 +80,9 @@ const char* format_name(MeshFormat format) {
 
 ReadResult read_mesh(const std::string& path, const ReadOptions& options) {
   const MeshFormat format = resolve(options.format, path);
-  const std::string data = read_file(path);
   ReadResult result;
+  result.bytes = std::make_shared<const std::string>(read_file(path));
+  const std::string& data = *result.bytes;
   switch (format) {
     case MeshFormat::Obj:
       read_obj(data, path, result);
@@ -101,7 +102,13 @@ ReadResult read_mesh(const std::string& path, const ReadOptions& options) {
     case MeshFormat::Auto:
       FF_CHECK(false, "format not resolved");
   }
+  result.bytes.reset();
   return result;
+}
+
+std::shared_ptr<const std::string> file_bytes(std::string_view data, const ReadResult& out) {
+  if (out.bytes && out.bytes->data() == data.data() && out.bytes->size() == data.size()) return out.bytes;
+  return std::make_shared<const std::string>(data);
 }
 
 namespace {

@@ -37,7 +37,13 @@ struct ReadResult {
   MeshFormat format = MeshFormat::Auto;
   MeshAttributes attributes;                 // polygons, UVs, normals, colours, other properties
   std::shared_ptr<const FileSource> source;  // the file itself, to write it back (null: none)
+  // read_mesh's buffer of the file, lent to the reader so that its FileSource shares it instead
+  // of copying it (readers call file_bytes); cleared once the reader returns.
+  std::shared_ptr<const std::string> bytes;
 };
+
+// The file's content for a FileSource: `out.bytes` when `data` is that buffer, else a copy.
+std::shared_ptr<const std::string> file_bytes(std::string_view data, const ReadResult& out);
 
 ReadResult read_mesh(const std::string& path, const ReadOptions& options = {});
 

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace freeform {
@@ -48,9 +49,9 @@ constexpr const char* kKindPlurals[3] = {"vertices", "texture coordinates", "nor
 // Keeps the file and where its vertex positions and normals are written, to rewrite them.
 class ObjSource final : public FileSource {
  public:
-  ObjSource(std::string_view data, std::vector<io_detail::NumberRun> positions,
-            std::vector<io_detail::NumberRun> normals, std::string other)
-      : data_(data), positions_(std::move(positions)), normals_(std::move(normals)), other_(std::move(other)) {}
+  ObjSource(std::shared_ptr<const std::string> data, std::vector<io_detail::TextSpan> positions,
+            std::vector<io_detail::TextSpan> normals, std::string other)
+      : data_(std::move(data)), positions_(std::move(positions)), normals_(std::move(normals)), other_(std::move(other)) {}
 
   std::string kept_only_by_rewrite() const override { return other_; }
 
@@ -58,24 +59,17 @@ class ObjSource final : public FileSource {
                       std::vector<std::pair<std::string, std::string>>&, const std::string&) const override {
     const std::vector<double> normals =
         recomputed_normals(file.attributes.polygons, file.attributes.normal, positions, file.soup.positions);
-    std::vector<io_detail::NumberRun> runs = positions_;
-    for (std::size_t v = 0; v < runs.size(); ++v) {
-      runs[v].values = positions[v].data();
-      runs[v].old = file.soup.positions[v].data();
-    }
-    for (std::size_t n = 0; n < normals_.size(); ++n) {
-      io_detail::NumberRun run = normals_[n];
-      run.values = normals.data() + 3 * n;
-      run.old = file.attributes.normal.values.data() + 3 * n;
-      runs.push_back(run);
-    }
-    return io_detail::patch_numbers(data_, std::move(runs));
+    std::vector<io_detail::NumberRun> runs;
+    runs.reserve(positions_.size() + normals_.size());
+    io_detail::add_runs(runs, positions_, positions.data()->data(), file.soup.positions.data()->data());
+    io_detail::add_runs(runs, normals_, normals.data(), file.attributes.normal.values.data());
+    return io_detail::patch_numbers(*data_, std::move(runs));
   }
 
  private:
-  std::string data_;
-  std::vector<io_detail::NumberRun> positions_;  // one per `v`
-  std::vector<io_detail::NumberRun> normals_;    // one per `vn`
+  std::shared_ptr<const std::string> data_;
+  std::vector<io_detail::TextSpan> positions_;  // one per `v`
+  std::vector<io_detail::TextSpan> normals_;    // one per `vn`
   std::string other_;                            // the statements only a rewrite keeps
 };
 
@@ -104,7 +98,9 @@ class OtherStatements {
 // The statements of an OBJ file the mesh is made of, read line by line.
 class ObjReader {
  public:
-  ObjReader(std::string_view data, const std::string& name, ReadResult& out) : data_(data), name_(name), out_(out) {}
+  ObjReader(std::string_view data, const std::string& name, ReadResult& out) : data_(data), name_(name), out_(out) {
+    reserve();
+  }
 
   void statement(std::string_view line, std::size_t line_no, bool joined) {
     line_ = line_no;
@@ -120,7 +116,7 @@ class ObjReader {
       if (joined)
         rewritable_ = false;
       else
-        normal_runs_.push_back(io_detail::run_of(data_, first, last_));
+        normal_runs_.push_back(io_detail::span_of(data_, first, last_));
     } else if (keyword == "f") {
       face(tokens);
     } else {
@@ -147,7 +143,7 @@ class ObjReader {
     }
     if (rewritable_)
       out_.source =
-          std::make_shared<ObjSource>(data_, std::move(position_runs_), std::move(normal_runs_), other_.names());
+          std::make_shared<ObjSource>(file_bytes(data_, out_), std::move(position_runs_), std::move(normal_runs_), other_.names());
   }
 
  private:
@@ -166,7 +162,7 @@ class ObjReader {
     if (joined)
       rewritable_ = false;
     else
-      position_runs_.push_back(io_detail::run_of(data_, first, last_));
+      position_runs_.push_back(io_detail::span_of(data_, first, last_));
     // `v x y z r g b` (the common vertex-colour extension); `v x y z w` keeps its weight.
     std::string_view extra[4];
     int n_extra = 0;
@@ -195,6 +191,25 @@ class ObjReader {
     }
     into.width = width;
     return first;
+  }
+
+  // Counts `v` and `f` lines first (a fast scan) so the arrays grow once, not by doubling.
+  void reserve() {
+    std::size_t vertices = 0, faces = 0;
+    for (std::size_t pos = 0; pos < data_.size();) {
+      const std::size_t end = std::min(data_.find('\n', pos), data_.size());
+      if (end - pos >= 2 && io_detail::is_space(data_[pos + 1])) {
+        vertices += data_[pos] == 'v';
+        faces += data_[pos] == 'f';
+      }
+      pos = end + 1;
+    }
+    out_.soup.positions.reserve(vertices);
+    position_runs_.reserve(vertices);
+    out_.soup.faces.reserve(faces);
+    out_.attributes.triangle_polygon.reserve(faces);
+    out_.attributes.polygons.offsets.reserve(faces + 1);
+    out_.attributes.polygons.corners.reserve(3 * faces);
   }
 
   double number(std::string_view tok, const char* what, std::size_t i, const char* part) const {
@@ -232,6 +247,16 @@ class ObjReader {
     return static_cast<int>(i - 1);
   }
 
+  // Rows are kept from the first corner that has one (earlier corners: -1), so a file without
+  // `vt` or `vn` costs nothing.
+  static void corner_row(std::vector<int>& rows, int row, std::size_t corner, bool& seen) {
+    if (row >= 0 && !seen) {
+      seen = true;
+      rows.assign(corner, -1);
+    }
+    if (seen) rows.push_back(row);
+  }
+
   void face(io_detail::Tokens& tokens) {
     poly_.clear();
     std::string_view tok;
@@ -245,12 +270,10 @@ class ObjReader {
         tex = rest.substr(0, s2);
         if (s2 != std::string_view::npos) nrm = rest.substr(s2 + 1);
       }
+      const std::size_t corner = out_.attributes.polygons.corners.size() + poly_.size();
       poly_.push_back(index(head, 0, tok));
-      const int t = index(tex, 1, tok), n = index(nrm, 2, tok);
-      has_uv_ = has_uv_ || t >= 0;
-      has_normal_ = has_normal_ || n >= 0;
-      uv_index_.push_back(t);
-      normal_index_.push_back(n);
+      corner_row(uv_index_, index(tex, 1, tok), corner, has_uv_);
+      corner_row(normal_index_, index(nrm, 2, tok), corner, has_normal_);
     }
     if (poly_.size() < 3)
       fail(name_, line_, fmt::format("face {} has {} vertices (at least 3 needed)", face_count_, poly_.size()));
@@ -273,7 +296,7 @@ class ObjReader {
   bool has_uv_ = false, has_normal_ = false, has_color_ = false;
   bool rewritable_ = true;
   OtherStatements other_;
-  std::vector<io_detail::NumberRun> position_runs_, normal_runs_;
+  std::vector<io_detail::TextSpan> position_runs_, normal_runs_;
 };
 
 }  // namespace

@@ -65,31 +65,24 @@ NamedAttribute color_attribute(std::vector<double> rgba, bool alpha) {
 // Keeps the file and where its positions and normals are, to rewrite them.
 class OffSource final : public FileSource {
  public:
-  OffSource(std::string_view data, std::vector<io_detail::NumberRun> positions,
-            std::vector<io_detail::NumberRun> normals)
-      : data_(data), positions_(std::move(positions)), normals_(std::move(normals)) {}
+  OffSource(std::shared_ptr<const std::string> data, std::vector<io_detail::TextSpan> positions,
+            std::vector<io_detail::TextSpan> normals)
+      : data_(std::move(data)), positions_(std::move(positions)), normals_(std::move(normals)) {}
 
   std::string rewrite(const ReadResult& file, std::span<const Vec3> positions,
                       std::vector<std::pair<std::string, std::string>>&, const std::string&) const override {
     const std::vector<double> normals =
         recomputed_normals(file.attributes.polygons, file.attributes.normal, positions, file.soup.positions);
-    std::vector<io_detail::NumberRun> runs = positions_;
-    for (std::size_t v = 0; v < runs.size(); ++v) {
-      runs[v].values = positions[v].data();
-      runs[v].old = file.soup.positions[v].data();
-    }
-    for (std::size_t v = 0; v < normals_.size(); ++v) {
-      io_detail::NumberRun run = normals_[v];
-      run.values = normals.data() + 3 * v;
-      run.old = file.attributes.normal.values.data() + 3 * v;
-      runs.push_back(run);
-    }
-    return io_detail::patch_numbers(data_, std::move(runs));
+    std::vector<io_detail::NumberRun> runs;
+    runs.reserve(positions_.size() + normals_.size());
+    io_detail::add_runs(runs, positions_, positions.data()->data(), file.soup.positions.data()->data());
+    io_detail::add_runs(runs, normals_, normals.data(), file.attributes.normal.values.data());
+    return io_detail::patch_numbers(*data_, std::move(runs));
   }
 
  private:
-  std::string data_;
-  std::vector<io_detail::NumberRun> positions_, normals_;
+  std::shared_ptr<const std::string> data_;
+  std::vector<io_detail::TextSpan> positions_, normals_;
 };
 
 struct Counts {
@@ -146,7 +139,7 @@ int rest_numbers(io_detail::Tokens& tokens, double* values, int max) {
 struct VertexExtras {
   std::vector<double> normals, colors, uv;  // colours as r g b a
   bool alpha = false;                          // some colour had 4 values
-  std::vector<io_detail::NumberRun> position_runs, normal_runs;
+  std::vector<io_detail::TextSpan> position_runs, normal_runs;
 };
 
 // x y z [w], then the values the keyword declares: normal (3), colour (3 or 4), uv (2).
@@ -170,7 +163,7 @@ void read_vertex(std::string_view data, io_detail::LineReader& lines, std::strin
     if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
       lines.fail(fmt::format("vertex {} is not finite after dividing by w", i));
   }
-  extras.position_runs.push_back(io_detail::run_of(data, first, last));
+  extras.position_runs.push_back(io_detail::span_of(data, first, last));
   soup.positions.emplace_back(c[0], c[1], c[2]);
   double rest[9];
   io_detail::Tokens probe = tokens;
@@ -188,7 +181,7 @@ void read_vertex(std::string_view data, io_detail::LineReader& lines, std::strin
       if (k == 0) nfirst = tok;
       nlast = tok;
     }
-    extras.normal_runs.push_back(io_detail::run_of(data, nfirst, nlast));
+    extras.normal_runs.push_back(io_detail::span_of(data, nfirst, nlast));
     extras.normals.insert(extras.normals.end(), rest, rest + 3);
   }
   if (header.color) {
@@ -259,7 +252,7 @@ void read_off(std::string_view data, const std::string& name, ReadResult& out) {
   if (all_faces_colored) a.face.push_back(color_attribute(std::move(face_colors), face_alpha));
   // Homogeneous and n-dimensional files are written as plain OFF (their w is not kept).
   if (!header.homogeneous && !header.has_dim)
-    out.source = std::make_shared<OffSource>(data, std::move(extras.position_runs), std::move(extras.normal_runs));
+    out.source = std::make_shared<OffSource>(file_bytes(data, out), std::move(extras.position_runs), std::move(extras.normal_runs));
 }
 
 namespace {

@@ -315,7 +315,7 @@ void read_ply(std::string_view data, const std::string& name, ReadResult& out) {
   // PLY values are per vertex: each corner uses its vertex's row.
   if (!out.attributes.normal.values.empty()) out.attributes.normal.index = out.attributes.polygons.corners;
   if (!out.attributes.uv.values.empty()) out.attributes.uv.index = out.attributes.polygons.corners;
-  out.source = make_ply_source(data, name, header, layout, header.body_offset + vertex_start);
+  out.source = make_ply_source(file_bytes(data, out), name, header, layout, header.body_offset + vertex_start);
 }
 
 }  // namespace freeform

@@ -58,7 +58,7 @@ void bind_attributes(const Header& header, Layout& layout, MeshAttributes& attri
 
 // The file `data` as read, to rewrite its positions and normals (ply_rewrite.cpp);
 // `vertex_offset` is where the vertex element starts in `data`.
-std::shared_ptr<const FileSource> make_ply_source(std::string_view data, const std::string& name,
+std::shared_ptr<const FileSource> make_ply_source(std::shared_ptr<const std::string> data, const std::string& name,
                                                   const Header& header, const Layout& layout,
                                                   std::size_t vertex_offset);
 

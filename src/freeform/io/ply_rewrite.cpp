@@ -43,7 +43,7 @@ void copy_on_huge_pages(std::string_view from, std::string& to) {
 // again (cheap next to reading it) instead of keeping per-vertex offsets.
 class PlySource final : public FileSource {
  public:
-  PlySource(std::string_view data, const std::string& name, const Header& header, const Layout& layout,
+  PlySource(std::shared_ptr<const std::string> data, const std::string& name, const Header& header, const Layout& layout,
             std::size_t vertex_offset)
       : name_(name),
         encoding_(header.encoding),
@@ -56,7 +56,7 @@ class PlySource final : public FileSource {
       has_normals_ = has_normals_ || f.role == Role::NX;
     }
     kept_only_ = not_exposed(header, layout);
-    copy_on_huge_pages(data, data_);
+    data_ = std::move(data);
   }
 
   std::string rewrite(const ReadResult& file, std::span<const Vec3> positions,
@@ -90,7 +90,7 @@ class PlySource final : public FileSource {
 
   std::string rewrite_binary(std::span<const Vec3> positions, const std::vector<double>& normals) const {
     std::string out;
-    copy_on_huge_pages(data_, out);
+    copy_on_huge_pages(*data_, out);
     auto* p = reinterpret_cast<unsigned char*>(out.data());
     const bool swap = needs_swap(encoding_);
     std::size_t pos = vertex_offset_;
@@ -118,11 +118,11 @@ class PlySource final : public FileSource {
   // unchanged values keep their spelling ("1.000000") and every line keeps its spacing.
   std::string rewrite_ascii(std::span<const Vec3> positions, const std::vector<double>& normals) const {
     std::string out;
-    reserve_huge(out, data_.size() + data_.size() / 4);
-    const std::string_view rest = std::string_view(data_).substr(vertex_offset_);
+    reserve_huge(out, data_->size() + data_->size() / 4);
+    const std::string_view rest = std::string_view(*data_).substr(vertex_offset_);
     io_detail::TokenReader tokens(rest, 1, name_);
     std::size_t copied = 0;  // in `rest`
-    out.append(data_, 0, vertex_offset_);
+    out.append(*data_, 0, vertex_offset_);
     for (std::size_t v = 0; v < vertex_count_; ++v) {
       for (std::size_t k = 0; k < props_.size(); ++k) {
         const std::string_view tok = tokens.require("a vertex value");
@@ -147,7 +147,7 @@ class PlySource final : public FileSource {
     return out;
   }
 
-  std::string data_;
+  std::shared_ptr<const std::string> data_;  // the file, shared with read_mesh's buffer
   std::string name_;
   Encoding encoding_;
   std::size_t vertex_offset_;  // where the vertex element starts in data_
@@ -160,10 +160,10 @@ class PlySource final : public FileSource {
 
 }  // namespace
 
-std::shared_ptr<const FileSource> make_ply_source(std::string_view data, const std::string& name,
+std::shared_ptr<const FileSource> make_ply_source(std::shared_ptr<const std::string> data, const std::string& name,
                                                   const Header& header, const Layout& layout,
                                                   std::size_t vertex_offset) {
-  return std::make_shared<PlySource>(data, name, header, layout, vertex_offset);
+  return std::make_shared<PlySource>(std::move(data), name, header, layout, vertex_offset);
 }
 
 }  // namespace freeform::ply_detail

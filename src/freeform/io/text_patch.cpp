@@ -28,4 +28,10 @@ std::string patch_numbers(std::string_view data, std::vector<NumberRun> runs) {
   return out;
 }
 
+void add_runs(std::vector<NumberRun>& runs, const std::vector<TextSpan>& spans, const double* values,
+              const double* old) {
+  for (std::size_t i = 0; i < spans.size(); ++i)
+    runs.push_back({spans[i].begin, spans[i].end, values + 3 * i, old + 3 * i, 3});
+}
+
 }  // namespace freeform::io_detail

@@ -9,8 +9,13 @@
 
 namespace freeform::io_detail {
 
-// The bytes [begin, end) of the file hold `width` numbers ("x y z") that become `values`;
-// when `old` (the values read) equals `values` the file's text is kept as written.
+// The bytes [begin, end) of a file that hold a row of numbers ("x y z").
+struct TextSpan {
+  std::size_t begin = 0, end = 0;
+};
+
+// A span whose `width` numbers become `values`; when `old` (the values read) equals `values`
+// the file's text is kept as written.
 struct NumberRun {
   std::size_t begin = 0, end = 0;
   const double* values = nullptr;
@@ -22,8 +27,12 @@ struct NumberRun {
 // their shortest round-trip form separated by single spaces.
 std::string patch_numbers(std::string_view data, std::vector<NumberRun> runs);
 
-// The byte range of tokens [first, last] of `line` as offsets into `data` (line is a view of it).
-inline NumberRun run_of(std::string_view data, std::string_view first, std::string_view last) {
+// Runs for rows of 3 values: span i becomes values[3i..3i+3), kept where old[3i..] is equal.
+void add_runs(std::vector<NumberRun>& runs, const std::vector<TextSpan>& spans, const double* values,
+              const double* old);
+
+// The byte range of tokens [first, last] as offsets into `data` (the tokens are views of it).
+inline TextSpan span_of(std::string_view data, std::string_view first, std::string_view last) {
   return {static_cast<std::size_t>(first.data() - data.data()),
           static_cast<std::size_t>(last.data() + last.size() - data.data())};
 }
