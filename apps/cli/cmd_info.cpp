@@ -39,6 +39,20 @@ double mean_edge_length(const Mesh& mesh) {
   return sum / mesh.n_edges();
 }
 
+// What the file holds besides the triangles (kept when it is written back).
+nlohmann::json describe_attributes(const ReadResult& read) {
+  const MeshAttributes& a = read.attributes;
+  nlohmann::json vertex = nlohmann::json::array(), face = nlohmann::json::array();
+  for (const NamedAttribute& v : a.vertex) vertex.push_back(v.name);
+  for (const NamedAttribute& f : a.face) face.push_back(f.name);
+  return {{"format", format_name(read.format)},
+          {"polygons", a.polygons.size()},
+          {"texture_coordinates", a.uv.rows()},
+          {"normals", a.normal.rows()},
+          {"vertex", vertex},
+          {"face", face}};
+}
+
 nlohmann::json describe(const InfoOptions& opt, const ReadResult& read) {
   const TriangleSoup& soup = read.soup;
   const ValidationReport r = validate(soup);
@@ -80,6 +94,7 @@ nlohmann::json describe(const InfoOptions& opt, const ReadResult& read) {
       {"duplicate_vertices", r.duplicate_vertices.size()},
       {"unreferenced_vertices", r.unreferenced_vertices.size()},
       {"component_list", components},
+      {"attributes", describe_attributes(read)},
       {"warnings", read.warnings},
       {"details",
        {{"note", "first " + std::to_string(kMaxListed) + " of each kind; edges as vertex pairs, 0-based"},
@@ -114,6 +129,11 @@ void print_text(const nlohmann::json& j) {
   fmt::print("euler characteristic  {}\ngenus                 {}\n", j["euler_characteristic"].get<int>(),
              j["genus"].get<int>());
   fmt::print("manifold              {}\n", j["manifold"].get<bool>() ? "yes" : "no");
+  const auto& a = j["attributes"];
+  fmt::print("polygons              {}\ntexture coordinates   {}\nnormals               {}\n", a["polygons"].get<int>(),
+             a["texture_coordinates"].get<int>(), a["normals"].get<int>());
+  for (const char* kind : {"vertex", "face"})
+    if (!a[kind].empty()) fmt::print("{:<22}{}\n", std::string(kind) + " attributes", a[kind].dump());
   for (const char* key : {"nonmanifold_edges", "nonmanifold_vertices", "inconsistently_oriented_edges", "zero_area_faces",
                           "repeated_index_faces", "duplicate_vertices", "unreferenced_vertices"})
     fmt::print("{:<22}{}{}\n", key, j[key].get<std::size_t>(), list(key));

@@ -37,6 +37,18 @@ TEST(Cli, InfoJsonHasCountsAndTopology) {
   EXPECT_EQ(j["bounding_box"]["max"], nlohmann::json({1.0, 1.0, 1.0}));
   // Edges: three of length 1 and three of length sqrt(2).
   EXPECT_NEAR(j["mean_edge_length"].get<double>(), (3 + 3 * std::sqrt(2.0)) / 6, 1e-12);
+  EXPECT_EQ(j["attributes"], nlohmann::json::parse(
+                                 R"({"format": "obj", "polygons": 4, "texture_coordinates": 0, "normals": 0,
+                                     "vertex": [], "face": []})"));
+}
+
+TEST(Cli, InfoNamesWhatTheFileHolds) {
+  test::ScratchDir dir;
+  write_text(dir / "quad.off", "COFF\n4 1 0\n0 0 0 1 0 0\n1 0 0 0 1 0\n1 1 0 0 0 1\n0 1 0 1 1 1\n4 0 1 2 3\n");
+  const CliRun r = freeform_cli("info " + q(dir / "quad.off"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, ::testing::HasSubstr("polygons              1\n"));
+  EXPECT_THAT(r.out, ::testing::HasSubstr("vertex attributes     [\"color\"]"));
 }
 
 TEST(Cli, InfoReportsDefectsWithoutRefusing) {
@@ -87,7 +99,7 @@ TEST(Cli, UsageErrorsExitTwo) {
 TEST(Cli, ConvertRoundTripsThroughEveryFormat) {
   test::ScratchDir dir;
   write_text(dir / "tetra.obj", kTetraObj);
-  for (const char* ext : {"off", "ply", "stl", "obj"}) {
+  for (const char* ext : {"off", "ply", "stl", "obj", "gltf", "glb"}) {
     const auto out = dir / (std::string("t.") + ext);
     const CliRun r = freeform_cli("convert " + q(dir / "tetra.obj") + " " + q(out));
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -95,6 +107,28 @@ TEST(Cli, ConvertRoundTripsThroughEveryFormat) {
     EXPECT_EQ(back.soup.positions.size(), 4u) << ext;
     EXPECT_EQ(back.soup.faces.size(), 4u) << ext;
   }
+}
+
+// A coloured quad: OBJ keeps the polygon and the colours (silently); STL drops both and says so;
+// in its own format the file comes back byte for byte.
+TEST(Cli, ConvertKeepsWhatBothFormatsHold) {
+  test::ScratchDir dir;
+  const std::string coff = "COFF\n# a quad\n4 1 0\n0 0 0 1 0 0\n1 0 0 0 1 0\n1 1 0 0 0 1\n0 1 0 1 1 1\n4 0 1 2 3\n";
+  write_text(dir / "quad.off", coff);
+  CliRun r = freeform_cli("convert " + q(dir / "quad.off") + " " + q(dir / "quad.obj"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "warning: 1 polygon with more than 3 vertices fan-triangulated into 2 triangles\n");
+  const ReadResult obj = read_mesh((dir / "quad.obj").string());
+  EXPECT_EQ(obj.attributes.polygons.size(), 1);
+  ASSERT_NE(obj.attributes.vertex_attribute("color"), nullptr);
+  EXPECT_EQ(obj.attributes.vertex_attribute("color")->values[4], 1.0);  // vertex 1 is green
+  r = freeform_cli("convert " + q(dir / "quad.off") + " " + q(dir / "quad.stl"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("note: " + (dir / "quad.stl").string() + " cannot hold the input's polygons (STL holds triangles)"));
+  EXPECT_THAT(r.err, HasSubstr("cannot hold the input's vertex property 'color'"));
+  r = freeform_cli("convert " + q(dir / "quad.off") + " " + q(dir / "copy.off"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(slurp(dir / "copy.off"), coff);
 }
 
 TEST(Cli, ConvertLeavesNothingOnFailure) {

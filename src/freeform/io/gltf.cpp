@@ -8,6 +8,7 @@
 #include "freeform/io/gltf_util.h"
 #include "freeform/io/mesh_io.h"
 #include "freeform/io/text_scan.h"
+#include "freeform/io/weld.h"
 
 #include <Eigen/Geometry>
 #include <fmt/format.h>
@@ -338,18 +339,6 @@ std::vector<Instance> scene_instances(const Json& json, const std::string& path)
   return out;
 }
 
-using Key = std::array<std::uint64_t, 3>;
-struct KeyHash {
-  std::size_t operator()(const Key& k) const {
-    std::uint64_t h = 0x9e3779b97f4a7c15ull;
-    for (std::uint64_t v : k) {
-      h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
-      h *= 0xff51afd7ed558ccdull;
-      h ^= h >> 33;
-    }
-    return static_cast<std::size_t>(h);
-  }
-};
 
 std::vector<std::array<int, 3>> triangles(std::uint64_t mode, const std::vector<int>& v, const std::string& path,
                                           const std::string& where) {
@@ -483,7 +472,7 @@ class Builder {
     }
     PositionBlock b{acc_.float_layout(a, 3, "POSITION"), in.linear, in.translation, {}};
     b.vertex.resize(static_cast<std::size_t>(b.layout.count));
-    weld_.reserve(weld_.size() + b.vertex.size());
+    weld_.reserve(out_.soup.positions.size() + b.vertex.size());
     for (int i = 0; i < b.layout.count; ++i) {
       const Eigen::Vector3d p = acc_.vec3(b.layout, i);
       if (!p.allFinite()) fail(path_, fmt::format("accessor {} (POSITION): element {} is not finite", a, i));
@@ -497,17 +486,13 @@ class Builder {
   }
 
   int weld(const Eigen::Vector3d& w) {
-    // Adding +0.0 turns -0.0 into +0.0, so both weld together.
-    const Eigen::Vector3d p(w.x() + 0.0, w.y() + 0.0, w.z() + 0.0);
-    const Key key{std::bit_cast<std::uint64_t>(p.x()), std::bit_cast<std::uint64_t>(p.y()), std::bit_cast<std::uint64_t>(p.z())};
-    const auto [it, inserted] = weld_.try_emplace(key, static_cast<int>(out_.soup.positions.size()));
+    if (out_.soup.positions.size() >= io_detail::kMaxElements) fail(path_, "more than 2^31-1 vertices");
+    const auto [vertex, inserted] = weld_.add(w);
     if (inserted) {
-      if (out_.soup.positions.size() >= io_detail::kMaxElements) fail(path_, "more than 2^31-1 vertices");
-      out_.soup.positions.push_back(p);
       color_.emplace_back(1, 1, 1, 1);
       has_color_.push_back(0);
     }
-    return it->second;
+    return vertex;
   }
 
   std::vector<int> indices(const Json& prim, int n, const std::string& where) {
@@ -608,7 +593,7 @@ class Builder {
   Accessors& acc_;
   const std::string& path_;
   ReadResult& out_;
-  std::unordered_map<Key, int, KeyHash> weld_;
+  io_detail::PositionWelder weld_{out_.soup.positions};
   std::vector<int> position_block_, normal_block_, uv_base_;  // per accessor; -1: not read
   std::vector<char> tangent_seen_;
   std::vector<int> mesh_node_;  // per mesh: the node whose instance is deformed

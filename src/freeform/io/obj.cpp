@@ -46,34 +46,6 @@ struct ForwardRef {
 constexpr const char* kKindNames[3] = {"vertex", "texture coordinate", "normal"};
 constexpr const char* kKindPlurals[3] = {"vertices", "texture coordinates", "normals"};
 
-// Keeps the file and where its vertex positions and normals are written, to rewrite them.
-class ObjSource final : public FileSource {
- public:
-  ObjSource(std::shared_ptr<const std::string> data, std::vector<io_detail::TextSpan> positions,
-            std::vector<io_detail::TextSpan> normals, std::string other)
-      : data_(std::move(data)), positions_(std::move(positions)), normals_(std::move(normals)), other_(std::move(other)) {}
-
-  std::string kept_only_by_rewrite() const override { return other_; }
-
-  std::string rewrite(const ReadResult& file, std::span<const Vec3> positions,
-                      std::vector<std::pair<std::string, std::string>>&, const std::string&) const override {
-    const std::vector<double> normals =
-        recomputed_normals(file.attributes.polygons, file.attributes.normal, positions, file.soup.positions);
-    std::vector<io_detail::NumberRun> runs;
-    runs.reserve(positions_.size() + normals_.size());
-    io_detail::add_runs(runs, positions_, positions.data()->data(), file.soup.positions.data()->data());
-    io_detail::add_runs(runs, normals_, normals.data(), file.attributes.normal.values.data());
-    return io_detail::patch_numbers(*data_, std::move(runs));
-  }
-
- private:
-  std::shared_ptr<const std::string> data_;
-  std::vector<io_detail::TextSpan> positions_;  // one per `v`
-  std::vector<io_detail::TextSpan> normals_;    // one per `vn`
-  std::string other_;                            // the statements only a rewrite keeps
-};
-
-// Names the statements a file has besides v, vt, vn and f, for the message when they are lost.
 constexpr std::pair<std::string_view, const char*> kNames[] = {
     {"g", "groups"},           {"o", "objects"}, {"usemtl", "materials"}, {"mtllib", "material libraries"},
     {"s", "smoothing groups"}, {"l", "lines"},   {"p", "points"}};
@@ -142,8 +114,8 @@ class ObjReader {
       a.vertex.push_back({"color", 3, std::move(colors_)});
     }
     if (rewritable_)
-      out_.source =
-          std::make_shared<ObjSource>(file_bytes(data_, out_), std::move(position_runs_), std::move(normal_runs_), other_.names());
+      out_.source = io_detail::make_text_source(file_bytes(data_, out_), std::move(position_runs_),
+                                                std::move(normal_runs_), other_.names());
   }
 
  private:

@@ -62,29 +62,6 @@ NamedAttribute color_attribute(std::vector<double> rgba, bool alpha) {
   return {"color", 3, std::move(rgb)};
 }
 
-// Keeps the file and where its positions and normals are, to rewrite them.
-class OffSource final : public FileSource {
- public:
-  OffSource(std::shared_ptr<const std::string> data, std::vector<io_detail::TextSpan> positions,
-            std::vector<io_detail::TextSpan> normals)
-      : data_(std::move(data)), positions_(std::move(positions)), normals_(std::move(normals)) {}
-
-  std::string rewrite(const ReadResult& file, std::span<const Vec3> positions,
-                      std::vector<std::pair<std::string, std::string>>&, const std::string&) const override {
-    const std::vector<double> normals =
-        recomputed_normals(file.attributes.polygons, file.attributes.normal, positions, file.soup.positions);
-    std::vector<io_detail::NumberRun> runs;
-    runs.reserve(positions_.size() + normals_.size());
-    io_detail::add_runs(runs, positions_, positions.data()->data(), file.soup.positions.data()->data());
-    io_detail::add_runs(runs, normals_, normals.data(), file.attributes.normal.values.data());
-    return io_detail::patch_numbers(*data_, std::move(runs));
-  }
-
- private:
-  std::shared_ptr<const std::string> data_;
-  std::vector<io_detail::TextSpan> positions_, normals_;
-};
-
 struct Counts {
   std::uint64_t vertices = 0, faces = 0;
 };
@@ -252,7 +229,8 @@ void read_off(std::string_view data, const std::string& name, ReadResult& out) {
   if (all_faces_colored) a.face.push_back(color_attribute(std::move(face_colors), face_alpha));
   // Homogeneous and n-dimensional files are written as plain OFF (their w is not kept).
   if (!header.homogeneous && !header.has_dim)
-    out.source = std::make_shared<OffSource>(file_bytes(data, out), std::move(extras.position_runs), std::move(extras.normal_runs));
+    out.source = io_detail::make_text_source(file_bytes(data, out), std::move(extras.position_runs),
+                                             std::move(extras.normal_runs), "");
 }
 
 namespace {

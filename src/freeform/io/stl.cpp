@@ -3,6 +3,7 @@
 // first appearance.
 #include "freeform/io/mesh_io.h"
 #include "freeform/io/text_scan.h"
+#include "freeform/io/weld.h"
 
 #include <fmt/format.h>
 
@@ -24,39 +25,6 @@ using io_detail::quote;
 constexpr std::size_t kHeaderBytes = 84;
 constexpr std::size_t kTriangleBytes = 50;
 
-using Key = std::array<std::uint64_t, 3>;
-
-struct KeyHash {
-  std::size_t operator()(const Key& k) const {
-    std::uint64_t h = 0x9e3779b97f4a7c15ull;
-    for (std::uint64_t v : k) {
-      h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
-      h *= 0xff51afd7ed558ccdull;
-      h ^= h >> 33;
-    }
-    return static_cast<std::size_t>(h);
-  }
-};
-
-class Welder {
- public:
-  explicit Welder(TriangleSoup& soup) : soup_(soup) {}
-  void reserve(std::size_t corners) { map_.reserve(corners); }
-  int add(double x, double y, double z) {
-    // Adding +0.0 turns -0.0 into +0.0, so both weld together.
-    x += 0.0;
-    y += 0.0;
-    z += 0.0;
-    const Key key{std::bit_cast<std::uint64_t>(x), std::bit_cast<std::uint64_t>(y), std::bit_cast<std::uint64_t>(z)};
-    auto [it, inserted] = map_.try_emplace(key, static_cast<int>(soup_.positions.size()));
-    if (inserted) soup_.positions.emplace_back(x, y, z);
-    return it->second;
-  }
-
- private:
-  TriangleSoup& soup_;
-  std::unordered_map<Key, int, KeyHash> map_;
-};
 
 bool iequals(std::string_view a, std::string_view b) {
   if (a.size() != b.size()) return false;
@@ -80,7 +48,7 @@ float load_f32_le(const unsigned char* p) { return std::bit_cast<float>(load_u32
 
 TriangleSoup read_binary(std::string_view data, std::uint32_t n, const std::string& name) {
   TriangleSoup soup;
-  Welder welder(soup);
+  io_detail::PositionWelder welder(soup.positions);
   welder.reserve(static_cast<std::size_t>(n) * 3 / 2);
   soup.faces.reserve(n);
   const auto* bytes = reinterpret_cast<const unsigned char*>(data.data());
@@ -94,7 +62,7 @@ TriangleSoup read_binary(std::string_view data, std::uint32_t n, const std::stri
         if (!std::isfinite(xyz[k]))
           fail(name, 0, fmt::format("triangle {}: vertex {} has a non-finite coordinate", t, c));
       }
-      tri[static_cast<std::size_t>(c)] = welder.add(xyz[0], xyz[1], xyz[2]);
+      tri[static_cast<std::size_t>(c)] = welder.add(Vec3(xyz[0], xyz[1], xyz[2])).first;
     }
     soup.faces.push_back(tri);
   }
@@ -104,7 +72,7 @@ TriangleSoup read_binary(std::string_view data, std::uint32_t n, const std::stri
 TriangleSoup read_ascii(std::string_view data, const std::string& name, std::vector<std::string>& warnings) {
   io_detail::TokenReader tokens(data, 1, name);
   TriangleSoup soup;
-  Welder welder(soup);
+  io_detail::PositionWelder welder(soup.positions);
   io_detail::FanCounter fan;
   std::vector<int> poly;
   auto expect = [&tokens](const char* word) {
@@ -157,7 +125,7 @@ TriangleSoup read_ascii(std::string_view data, const std::string& name, std::vec
               fmt::format("facet {}: vertex {} has a non-finite coordinate {}", facet, poly.size(), quote(tok)));
       }
       if (soup.positions.size() >= io_detail::kMaxElements) tokens.fail("too many vertices");
-      poly.push_back(welder.add(xyz[0], xyz[1], xyz[2]));
+      poly.push_back(welder.add(Vec3(xyz[0], xyz[1], xyz[2])).first);
     }
     if (poly.size() < 3) tokens.fail(fmt::format("facet {} has {} vertices (at least 3 needed)", facet, poly.size()));
     expect("endfacet");

@@ -2,7 +2,10 @@
 // OBJ, OFF and ascii PLY), everything else copied byte for byte.
 #pragma once
 
+#include "freeform/io/mesh_attributes.h"
+
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -36,5 +39,12 @@ inline TextSpan span_of(std::string_view data, std::string_view first, std::stri
   return {static_cast<std::size_t>(first.data() - data.data()),
           static_cast<std::size_t>(last.data() + last.size() - data.data())};
 }
+
+// The FileSource of a text file whose positions and normals are rows of three numbers at known
+// spans (OBJ, OFF): a rewrite patches them and copies the rest. `kept_only` names what only a
+// rewrite keeps (FileSource::kept_only_by_rewrite).
+std::shared_ptr<const FileSource> make_text_source(std::shared_ptr<const std::string> data,
+                                                   std::vector<TextSpan> positions, std::vector<TextSpan> normals,
+                                                   std::string kept_only);
 
 }  // namespace freeform::io_detail
