@@ -7,8 +7,8 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config git ccache
   libeigen3-dev libsuitesparse-dev libopenblas-dev libopenblas0-pthread
   libgtest-dev libgmock-dev libbenchmark-dev
-  nlohmann-json3-dev libcli11-dev libfmt-dev libstb-dev assimp-testmodels
-  libcgal-dev libcgal-demo
+  nlohmann-json3-dev libcli11-dev libfmt-dev libstb-dev
+  libcgal-dev libcgal-demo assimp-testmodels
   clang libclang-rt-14-dev
   libgl-dev libopengl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
   libglfw3-dev libimgui-dev xvfb xauth xdotool x11-utils
