@@ -201,15 +201,25 @@ INSTANTIATE_TEST_SUITE_P(Gltf, BoxTextured,
                          ::testing::Values("BoxTextured-glTF/BoxTextured.gltf", "BoxTextured-glTF-Binary/BoxTextured.glb",
                                            "BoxTextured-glTF-Embedded/BoxTextured.gltf"));
 
+// BoxTextured.gltf and its BoxTextured0.bin copied into `dir`, read, with vertex 0 moved.
+struct BoxBesideItsBin {
+  std::string bin;  // the input buffer's bytes
+  ReadResult r;
+  std::vector<Vec3> moved;
+  explicit BoxBesideItsBin(const fs::path& dir) {
+    fs::copy_file(kModels / "BoxTextured-glTF/BoxTextured.gltf", dir / "BoxTextured.gltf");
+    fs::copy_file(kModels / "BoxTextured-glTF/BoxTextured0.bin", dir / "BoxTextured0.bin");
+    bin = read_file((dir / "BoxTextured0.bin").string());
+    r = read(dir / "BoxTextured.gltf");
+    moved = r.soup.positions;
+    moved[0] *= 1.5;
+  }
+};
+
 TEST(GltfRewrite, NeverOverwritesTheInputBuffer) {
   REQUIRE_MODELS();
   ScratchDir dir;
-  fs::copy_file(kModels / "BoxTextured-glTF/BoxTextured.gltf", dir / "BoxTextured.gltf");
-  fs::copy_file(kModels / "BoxTextured-glTF/BoxTextured0.bin", dir / "BoxTextured0.bin");
-  const std::string bin = read_file((dir / "BoxTextured0.bin").string());
-  const ReadResult r = read(dir / "BoxTextured.gltf");
-  std::vector<Vec3> moved = r.soup.positions;
-  moved[0] *= 1.5;
+  const auto [bin, r, moved] = BoxBesideItsBin(dir.path());
   std::vector<std::pair<std::string, std::string>> companions;
   // The output's own name would be BoxTextured0.bin: the input's buffer.
   write_rewrite(r, moved, dir.path(), "BoxTextured0.gltf", &companions);
@@ -339,12 +349,7 @@ INSTANTIATE_TEST_SUITE_P(Gltf, GltfConvert, ::testing::Bool(), moved_name);
 TEST(GltfConvert, NeverOverwritesTheInputBinBesideIt) {
   REQUIRE_MODELS();
   ScratchDir dir;
-  fs::copy_file(kModels / "BoxTextured-glTF/BoxTextured.gltf", dir / "BoxTextured.gltf");
-  fs::copy_file(kModels / "BoxTextured-glTF/BoxTextured0.bin", dir / "BoxTextured0.bin");
-  const std::string bin = read_file((dir / "BoxTextured0.bin").string());
-  const ReadResult r = read(dir / "BoxTextured.gltf");
-  std::vector<Vec3> moved = r.soup.positions;
-  moved[0] *= 1.5;
+  const auto [bin, r, moved] = BoxBesideItsBin(dir.path());
   for (const bool move : {false, true}) {
     const std::span<const Vec3> positions = move ? std::span<const Vec3>(moved) : std::span<const Vec3>(r.soup.positions);
     write_mesh((dir / "BoxTextured0.gltf").string(), r, positions);

@@ -3,6 +3,7 @@
 // from generic attributes.
 #include "freeform/common/error.h"
 #include "freeform/io/mesh_io.h"
+#include "io_test_util.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -23,6 +24,7 @@
 namespace freeform {
 namespace {
 
+using test::Bytes;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
@@ -59,20 +61,6 @@ std::string shortest(T value) {
   return std::string(buf, ptr);
 }
 
-// Appends scalars in a chosen byte order.
-struct Bytes {
-  bool big = false;
-  std::string data;
-  template <class T>
-  Bytes& put(T value) {
-    unsigned char b[sizeof(T)];
-    std::memcpy(b, &value, sizeof(T));
-    if (big != (std::endian::native == std::endian::big))
-      for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(b[i], b[sizeof(T) - 1 - i]);
-    data.append(reinterpret_cast<const char*>(b), sizeof(T));
-    return *this;
-  }
-};
 
 void expect_same_polygons(const MeshAttributes& a, const MeshAttributes& b) {
   EXPECT_EQ(a.polygons.offsets, b.polygons.offsets);
