@@ -1,11 +1,10 @@
 // freeform.MeshFile: a mesh file as read, with its polygons and attributes as read-only numpy
-// arrays; write_mesh(..., source=file) writes it back with new positions, keeping them.
+// arrays; write_mesh_file(path, file, vertices) writes it back with new positions, keeping them.
 #include "bindings.h"
 
 #include "freeform/io/mesh_io.h"
 
 #include <pybind11/stl.h>
-
 
 namespace freeform::python {
 namespace {
@@ -23,11 +22,15 @@ py::array_t<T> read_only(const T* data, std::size_t rows, std::size_t width, boo
   return a;
 }
 
+py::array_t<std::int64_t> ints(const std::vector<int>& values) {
+  std::vector<std::int64_t> wide(values.begin(), values.end());
+  return read_only(wide.data(), wide.size(), 1, false);
+}
+
 py::object corner_attribute(const CornerAttribute& c) {
   if (c.empty()) return py::none();
-  std::vector<std::int64_t> index(c.index.begin(), c.index.end());
   return py::make_tuple(read_only(c.values.data(), static_cast<std::size_t>(c.rows()), static_cast<std::size_t>(c.width)),
-                        read_only(index.data(), index.size(), 1, false));
+                        ints(c.index));
 }
 
 py::dict named(const std::vector<NamedAttribute>& attributes) {
@@ -39,18 +42,13 @@ py::dict named(const std::vector<NamedAttribute>& attributes) {
   return out;
 }
 
-py::array_t<std::int64_t> ints(const std::vector<int>& values) {
-  std::vector<std::int64_t> wide(values.begin(), values.end());
-  return read_only(wide.data(), wide.size(), 1, false);
-}
-
 }  // namespace
 
 void bind_mesh_file(py::module_& m) {
   py::class_<MeshFile>(m, "MeshFile",
                        "A mesh file as read by read_mesh_file: the welded triangle Mesh the solver works on, "
                        "and the polygons, texture coordinates, normals, colours and other properties of the file "
-                       "(read-only arrays). write_mesh(path, vertices, source=file) writes it back with new "
+                       "(read-only arrays). write_mesh_file(path, file, vertices) writes it back with new "
                        "positions, keeping everything else.")
       .def_property_readonly("mesh", [](const MeshFile& self) { return self.mesh; }, "The triangle Mesh (file vertex order).")
       .def_property_readonly("format", [](const MeshFile& self) { return std::string(format_name(self.file->format)); },

@@ -102,6 +102,16 @@ TEST(ObjAttributes, VertexColours) {
   EXPECT_EQ(rewrite(r, p, "o.obj"), "v -1 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n");
 }
 
+// `vn` rows that no face uses are not the mesh's normals: a rewrite keeps them as written.
+TEST(ObjAttributes, NormalsNoFaceUsesAreKept) {
+  const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1 2 3\n";
+  const ReadResult r = read_file_mem(MeshFormat::Obj, obj, "n.obj");
+  EXPECT_TRUE(r.attributes.normal.empty());
+  std::vector<Vec3> p = r.soup.positions;
+  p[2].z() = 1;
+  EXPECT_EQ(rewrite(r, p, "o.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 1\nvn 0 0 1\nf 1 2 3\n");
+}
+
 TEST(ObjAttributes, ForwardTextureIndexOutOfRangeNamesTheFace) {
   EXPECT_THAT(read_error(MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/9\n", "t.obj"),
               ::testing::HasSubstr("t.obj:5: face 0: texture coordinate index 9 out of range (file has 1 texture coordinates)"));

@@ -108,7 +108,10 @@ class ObjReader {
     fan_.warn(warnings);
     MeshAttributes& a = out_.attributes;
     if (has_uv_) a.uv = {2, std::move(uv_.values), std::move(uv_index_)};
-    if (has_normal_) a.normal = {3, normal_.values, std::move(normal_index_)};
+    if (has_normal_)
+      a.normal = {3, std::move(normal_.values), std::move(normal_index_)};
+    else
+      normal_runs_.clear();  // `vn` rows no face uses are not recomputed: kept as written
     if (has_color_) {
       colors_.resize(out_.soup.positions.size() * 3, 1.0);
       a.vertex.push_back({"color", 3, std::move(colors_)});

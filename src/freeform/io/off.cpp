@@ -50,8 +50,8 @@ bool parse_keyword(std::string_view kw, Header& header) {
   return kw == "OFF";
 }
 
-// Colours in 0..255 (integers) or 0..1: a file with any component above 1 is scaled by 1/255.
-// A colour attribute from r g b a rows: alpha dropped when the file gave none.
+// A colour attribute from r g b a rows: 0..255 or 0..1 (a file with any component above 1 is
+// scaled by 1/255); alpha dropped when the file gave none.
 NamedAttribute color_attribute(std::vector<double> rgba, bool alpha) {
   if (std::any_of(rgba.begin(), rgba.end(), [](double c) { return c > 1.0; }))
     for (double& c : rgba) c /= 255.0;
