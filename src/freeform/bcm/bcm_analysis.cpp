@@ -1,5 +1,7 @@
 #include "freeform/bcm/bcm_analysis.h"
 
+#include "freeform/common/parallel.h"
+#include "freeform/common/phase_clock.h"
 #include "freeform/mesh/traversal.h"
 
 #include <algorithm>
@@ -65,7 +67,7 @@ struct BcmAnalysis::Shared {
   std::atomic<bool> abandoned{false};
   std::promise<void> read_done;
   std::promise<std::unique_ptr<CholeskyAnalysis>> result;
-  std::atomic<double> ms{0.0};
+  std::atomic<double> ms{0.0}, cpu_ms{0.0};
 };
 
 BcmAnalysis::BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, int min_free,
@@ -78,6 +80,7 @@ BcmAnalysis::BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSett
   try {
     std::thread([&mesh, &regions, k = settings.order, shared = shared_, hook = std::move(before_ordering)] {
       const auto t = std::chrono::steady_clock::now();
+      const double cpu0 = PhaseClock::thread_cpu_ms() + helper_cpu_ms();
       Eigen::SparseMatrix<double> lower = [&] {
         try {
           return bcm_lower_pattern(mesh, regions, k, &shared->abandoned);
@@ -96,6 +99,7 @@ BcmAnalysis::BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSett
       }
       Eigen::SparseMatrix<double>().swap(lower);  // before the result: the caller's peak follows
       shared->ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+      shared->cpu_ms = PhaseClock::thread_cpu_ms() + helper_cpu_ms() - cpu0;
       shared->result.set_value(std::move(out));
     }).detach();
   } catch (const std::system_error&) {  // no thread to be had: the solver analyzes A itself
@@ -112,6 +116,7 @@ BcmAnalysis::~BcmAnalysis() {
 }
 
 double BcmAnalysis::ms() const { return shared_ ? shared_->ms.load() : 0.0; }
+double BcmAnalysis::cpu_ms() const { return shared_ ? shared_->cpu_ms.load() : 0.0; }
 
 CholeskyAnalysis* BcmAnalysis::get() {
   if (future_.valid()) {

@@ -43,7 +43,8 @@ class BcmAnalysis {
   bool started() const { return started_; }
   // Waits for the analysis; null if none was started or it failed (the solver then analyzes A).
   CholeskyAnalysis* get();
-  double ms() const;  // the thread's time (pattern and analysis), after get()
+  double ms() const;      // the thread's time (pattern and analysis), after get()
+  double cpu_ms() const;  // its CPU time, with the threads its ordering started
 
   // Multiresolution on the subdivided bunny, k = 3, precompute with / without: 35k free 1.3-1.4 /
   // 0.9-1.2 s (the thread competes with the operator shape), 140k 5.7-5.9 / 6.7-7.2 s, 300k

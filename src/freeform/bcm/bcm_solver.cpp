@@ -2,6 +2,7 @@
 // (docs/bcm.md).
 #include "freeform/bcm/bcm_solver.h"
 
+
 #include "freeform/bcm/bcm_system.h"
 #include "freeform/bcm/refinement.h"
 
@@ -22,8 +23,6 @@
 namespace freeform {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 // Rows below this are evaluated on one thread. Measured at 35k rows (bench_bcm, this 2-core VM):
 // one thread 87 us, two 44 us idle; but with another process on one core the second thread
@@ -145,8 +144,14 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   if (!analysis) analysis = &own_analysis.emplace(mesh, regions, settings);
   // Anisotropic bending: the operator's cotangents and areas come from the equalized
   // conformal map of the support grown by k rings (docs/anisotropic.md).
+  // Each phase's wall and CPU time (the report's "phases"); returns its wall time.
+  const auto record = [this](const char* name, const PhaseClock& clock) {
+    stats_.phases.push_back({name, clock.elapsed()});
+    return stats_.phases.back().time.wall_ms;
+  };
   AnisotropicDomain domain;
   if (settings.anisotropic) {
+    const PhaseClock clock;
     std::vector<Vertex> support;
     for (Vertex v : mesh.vertices())
       if (v.idx() < regions.n_vertices() && regions.role(v) != Role::Fixed) support.push_back(v);
@@ -155,12 +160,13 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
     stats_.principal_extents = domain.extents;
     stats_.anisotropic_fallback = domain.fallback;
     stats_.parametrization_ms = domain.ms;
+    record("parametrization", clock);
   }
-  auto t = Clock::now();
+  std::optional<PhaseClock> clock(std::in_place);
   BcmSystem sys = assemble_bcm_system(
       mesh, unit_scaled(domain.used ? domain.positions : operator_positions ? *operator_positions : mesh.positions()),
       regions, settings, keep_system);
-  stats_.assembly_ms = ms_since(t);
+  stats_.assembly_ms = record("assembly", *clock);
   stats_.symmetric = sys.symmetric;
   stats_.free = static_cast<int>(sys.free.size());
   stats_.constrained = static_cast<int>(sys.constrained.size());
@@ -169,15 +175,18 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   free_ = std::move(sys.free);
   progress.step("factorization", 0.15);
 
-  t = Clock::now();
+  clock.emplace();
   std::optional<SparseSolver> solver = factor_or_explain(sys, settings, analysis->get());
-  stats_.factorization_ms = ms_since(t);
+  stats_.factorization_ms = record("factorization", *clock);
   stats_.analysis_ahead = solver->reused_analysis();
   stats_.analysis_ahead_ms = analysis->ms();
+  stats_.analysis_ahead_cpu_ms = analysis->cpu_ms();
   stats_.solver = solver->name();
+  stats_.ordering = solver->ordering();
+  stats_.factor_nonzeros = solver->factor_nonzeros();
   progress.step("basis", 0.6);
 
-  t = Clock::now();
+  clock.emplace();
   // Virtual frame per movable handle: centroid c and c + s e_i, s = extent (> 0).
   const int n_mov = regions.n_movable();
   frames_.resize(static_cast<std::size_t>(n_mov));
@@ -235,11 +244,11 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
     x = solver->solve(rhs);  // one call, all 3 + 4M right-hand sides
     stats_.residual = solver->relative_residual(x, rhs);
   }
-  stats_.basis_ms = ms_since(t);
+  stats_.basis_ms = record("basis", *clock);
   progress.step("refinement", 0.75);
-  t = Clock::now();
+  clock.emplace();
   const Refinement refinement = refine_bcm_solution(sys, *solver, xc, x, progress);
-  stats_.refinement_ms = ms_since(t);
+  stats_.refinement_ms = record("refinement", *clock);
   if (!keep_system) solver.reset();  // the factor (2.6 GB at 1M free, k = 3) before the copies below
   stats_.refinement_steps = refinement.steps;
   stats_.refinement_converged = refinement.converged;

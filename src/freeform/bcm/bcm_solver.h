@@ -10,6 +10,7 @@
 #include "freeform/bcm/bcm_analysis.h"
 #include "freeform/bcm/bcm_system.h"
 #include "freeform/bcm/settings.h"
+#include "freeform/common/phase_clock.h"
 #include "freeform/common/progress.h"
 #include "freeform/mesh/mesh.h"
 #include "freeform/numerics/sparse_solver.h"
@@ -38,6 +39,12 @@ struct BcmStats {
   double assembly_ms = 0, factorization_ms = 0, basis_ms = 0;  // basis: the first solve
   bool analysis_ahead = false;  // the factorization used the symbolic analysis run ahead
   double analysis_ahead_ms = 0;  // that analysis' own time, on its thread (overlapping the above)
+  double analysis_ahead_cpu_ms = 0;  // its CPU time, with the threads its ordering used
+  std::string ordering;          // SparseSolver::ordering(): how the rows were ordered
+  double factor_nonzeros = 0;    // the Cholesky factor's (0 for other solvers)
+  // Wall and CPU time per phase, in order: parametrization (anisotropic only), assembly,
+  // factorization, basis, refinement (common/phase_clock.h).
+  std::vector<Phase> phases;
   double residual = 0;     // max over right-hand sides of |A_pp X - B| / |B| (relative)
   // Iterative refinement against the unassembled operator (bcm/refinement.h): steps, whether
   // it met its tolerance, and the forward-error estimate it leaves (the last correction, as a

@@ -1,12 +1,17 @@
 #include "freeform/common/parallel.h"
 
+#include "freeform/common/phase_clock.h"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <cstdlib>
+#include <dlfcn.h>
+#include <exception>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -15,13 +20,22 @@ namespace {
 
 constexpr std::chrono::microseconds kSpin{50};
 
+// OpenBLAS and libgomp read their own variables when they load; FREEFORM_THREADS reaches
+// them through their setters, looked up at run time so that neither is a link dependency.
+void cap_library_threads(int n) {
+  for (const char* name : {"openblas_set_num_threads", "omp_set_num_threads"})
+    if (void* f = dlsym(RTLD_DEFAULT, name)) reinterpret_cast<void (*)(int)>(f)(n);
+}
+
 int threads_from_environment() {
-  int total = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int total = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   for (const char* name : {"FREEFORM_THREADS", "OMP_NUM_THREADS"}) {
     const char* value = std::getenv(name);
     if (!value) continue;
     const int n = std::atoi(value);
-    if (n > 0) return std::min(total, n);
+    if (n <= 0) continue;
+    if (name[0] == 'F') cap_library_threads(std::min(total, n));
+    return std::min(total, n);
   }
   return total;
 }
@@ -109,7 +123,7 @@ class Pool {
   std::vector<std::thread> threads_;
 
   Pool() {
-    const int n = threads_from_environment() - 1;
+    const int n = thread_budget() - 1;
     for (int i = 0; i < n; ++i) threads_.emplace_back([this] { sleep_and_work(); });
   }
   ~Pool() {
@@ -174,6 +188,58 @@ class Pool {
 }  // namespace
 
 int parallel_workers() { return Pool::get().workers(); }
+
+int thread_budget() {
+  static const int n = threads_from_environment();
+  return n;
+}
+
+int blas_threads() {
+  thread_budget();  // applies FREEFORM_THREADS first
+  void* f = dlsym(RTLD_DEFAULT, "openblas_get_num_threads");
+  return f ? reinterpret_cast<int (*)()>(f)() : 0;
+}
+
+namespace {
+thread_local double helpers_cpu = 0;
+}
+
+double helper_cpu_ms() { return helpers_cpu; }
+
+void run_tasks(int n, const std::function<void(int)>& task) {
+  std::atomic<int> next{0};
+  std::atomic<double> cpu{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  const auto work = [&] {
+    for (int i = next++; i < n; i = next++) {
+      try {
+        task(i);
+      } catch (...) {
+        const std::lock_guard lock(error_mutex);
+        if (!error) error = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int t = 1; t < std::min(n, thread_budget()); ++t) {
+    try {
+      threads.emplace_back([&] {
+        const double start = PhaseClock::thread_cpu_ms();
+        work();
+        const double used = PhaseClock::thread_cpu_ms() - start;
+        for (double c = cpu.load(); !cpu.compare_exchange_weak(c, c + used);) {
+        }
+      });
+    } catch (const std::system_error&) {
+      break;  // no thread to be had: the ones started and the caller do the rest
+    }
+  }
+  work();
+  for (std::thread& t : threads) t.join();
+  helpers_cpu += cpu.load();
+  if (error) std::rethrow_exception(error);
+}
 
 void parallel_for(std::ptrdiff_t n, std::ptrdiff_t grain, ParallelBody body) {
   if (n <= 0) return;

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 
 namespace freeform {
 
@@ -35,5 +36,23 @@ void parallel_for(std::ptrdiff_t n, std::ptrdiff_t grain, const F& body) {
 // Pool threads besides the caller (hardware threads - 1, at least 0; FREEFORM_THREADS=N caps
 // the total at N).
 int parallel_workers();
+
+// The threads this process may keep busy: the hardware's, capped by FREEFORM_THREADS (or
+// OMP_NUM_THREADS). The first call also caps OpenBLAS's and OpenMP's teams at FREEFORM_THREADS
+// when it is set, so that the pool, the BLAS and CHOLMOD never run more threads than asked.
+int thread_budget();
+
+// OpenBLAS's thread count (0 if the BLAS is not OpenBLAS).
+int blas_threads();
+
+// Runs task(0) .. task(n - 1), each once, on up to thread_budget() threads (the caller is one of
+// them): coarse tasks of seconds, such as ordering the parts of a graph. Unlike parallel_for it
+// starts its own threads, so a long task never holds the per-frame pool. The first exception
+// thrown by a task is rethrown after all have finished.
+void run_tasks(int n, const std::function<void(int)>& task);
+
+// CPU time (ms) that the threads run_tasks started have spent on this thread's calls so far:
+// with PhaseClock::thread_cpu_ms(), what a thread's work cost in all.
+double helper_cpu_ms();
 
 }  // namespace freeform

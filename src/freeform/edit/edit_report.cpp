@@ -1,5 +1,7 @@
 #include "freeform/edit/edit_report.h"
 
+#include "freeform/common/parallel.h"
+
 namespace freeform {
 
 Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditProblems& problems,
@@ -30,6 +32,18 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
                  {"residual", ns->step},
                  {"converged", ns->converged},
                  {"iterate_ms", ns->ms}};
+  Json phases = Json::array();
+  for (const Phase& p : solver.stats().phases)
+    phases.push_back({{"name", p.name}, {"wall_ms", p.time.wall_ms}, {"cpu_ms", p.time.cpu_ms}});
+  const PhaseTime& whole = solver.stats().precompute;
+  Json precompute = {{"wall_ms", whole.wall_ms},
+                     {"cpu_ms", whole.cpu_ms},
+                     {"threads", thread_budget()},
+                     {"blas_threads", blas_threads()},
+                     {"phases", std::move(phases)},
+                     {"analysis_ahead", {{"wall_ms", st.analysis_ahead_ms}, {"cpu_ms", st.analysis_ahead_cpu_ms}}},
+                     {"ordering", st.ordering},
+                     {"factor_nonzeros", st.factor_nonzeros}};
   Json segments = Json::array();
   for (const SmoothnessSegment& seg : settings.smoothness.segments)
     segments.push_back({{"vertices", seg.vertices.size()}, {"value", seg.value}});
@@ -50,6 +64,7 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
         {"refinement", st.refinement_ms},
         {"analysis_ahead", st.analysis_ahead_ms},
         {"evaluate", frame.evaluate_ms}}},
+      {"precompute", std::move(precompute)},
       {"residual", st.residual},
       {"forward_error", st.forward_error},
       {"refinement",

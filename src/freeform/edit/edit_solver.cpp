@@ -65,6 +65,7 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
       touched_(touched_vertices(regions_)),
       folds_(mesh, mesh.positions(), touched_) {
   progress.check();
+  const PhaseClock whole;
   stats_.deformation = edit.deformation;
   const bool nonlinear = edit.deformation == Deformation::Nonlinear;
   if (!nonlinear && !edit.allow_unanchored) refuse_unanchored_closed_components(mesh, regions_);
@@ -75,7 +76,11 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
   // The smooth foot-point shape: the nonlinear model's base operator, and for both models what
   // says whether the detail stands on its base (multires_solver.h, MultiresOptions::Encoding).
   std::optional<OperatorShape> shape;
-  if (edit.multiresolution) shape = base_operator_shape(mesh, regions_, edit.settings, progress);
+  if (edit.multiresolution) {
+    const PhaseClock clock;
+    shape = base_operator_shape(mesh, regions_, edit.settings, progress);
+    stats_.phases.push_back({"operator_shape", clock.elapsed()});
+  }
   // Detail that overhangs its base (an ear, fingers, a snout) does not ride on the base's
   // normals through a large rotation: re-added along the turned normals it tore (the bunny's
   // ear twisted 90 degrees: 446 folded edges, 0 without the decomposition). The nonlinear
@@ -119,6 +124,12 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
                            "; the nonlinear model carries it on the detailed mesh (no decomposition)";
     ms.operator_shape_ms = ms.decomposition_ms = shape->ms;
   }
+  stats_.precompute = whole.elapsed();
+  PhaseTime rest = stats_.precompute;
+  for (const Phase& p : stats_.phases) rest = rest - p.time;
+  for (const Phase& p : stats_.bcm.phases) rest = rest - p.time;
+  stats_.phases.insert(stats_.phases.end(), stats_.bcm.phases.begin(), stats_.bcm.phases.end());
+  stats_.phases.push_back({"model_setup", rest});
 }
 
 EditSolver::~EditSolver() = default;

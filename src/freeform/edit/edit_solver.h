@@ -27,6 +27,11 @@ struct EditStats {
   BcmStats bcm;                            // assembly, factorization, basis, solver, anisotropy
   std::optional<MultiresStats> multires;   // set with multiresolution
   int isolated_ignored = 0;                // support vertices in no face, kept fixed (edit_regions)
+  // The precompute's wall and CPU time, whole and per phase (operator_shape with
+  // multiresolution, BCM's phases, then model_setup: the detail's encoding and the nonlinear
+  // model's setup); the phases add up to the whole.
+  PhaseTime precompute;
+  std::vector<Phase> phases;
 };
 
 // Wall times of the last evaluate(), in milliseconds.

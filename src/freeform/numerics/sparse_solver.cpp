@@ -5,7 +5,9 @@
 #include "freeform/common/error.h"
 #include "freeform/common/memory_limit.h"
 #include "freeform/common/huge_pages.h"
+#include "freeform/common/parallel.h"
 #include "freeform/common/serial_openmp.h"
+#include "freeform/numerics/nested_dissection.h"
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
@@ -68,6 +70,20 @@ using Lu = Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>>;
 // (the factor is null) that was a crash. This exposes the factor so try_factor can check first.
 struct Cholmod : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
   bool has_factor() const { return this->m_cholmodFactor != nullptr; }
+  // analyzePattern with a fill-reducing ordering computed elsewhere (CHOLMOD still postorders
+  // it by its elimination tree and finds the supernodes).
+  void analyze_given(const SpMat& lower, std::vector<int>& perm) {
+    if (this->m_cholmodFactor) cholmod_free_factor(&this->m_cholmodFactor, &this->cholmod());
+    cholmod_sparse a = Eigen::viewAsCholmod(lower.selfadjointView<Eigen::Lower>());
+    this->cholmod().nmethods = 1;
+    this->cholmod().method[0].ordering = CHOLMOD_GIVEN;
+    this->m_cholmodFactor = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &this->cholmod());
+    this->m_isInitialized = true;
+    this->m_info = Eigen::Success;
+    this->m_analysisIsOk = true;
+    this->m_factorizationIsOk = false;
+  }
+  std::string ordering;  // how the analysis ordered the rows
 };
 using CholmodPtr = std::unique_ptr<Cholmod>;  // Eigen's CHOLMOD objects cannot be moved
 // 64-bit indices (umfpack_dl_*): with 32-bit ones the LU of a 300k-row k = 3 system ran out of
@@ -158,7 +174,22 @@ CholmodPtr analyzed_cholmod(const SpMat& lower, int* status = nullptr) {
     s->cholmod().method[0].ordering = CHOLMOD_METIS;
   }
   const SerialOpenMp serial_teams;  // CHOLMOD's 4-thread teams per supernode (serial_openmp.h)
-  s->analyzePattern(lower);
+  // METIS orders the whole graph on one thread: with more, its top levels are split and the
+  // parts ordered concurrently (nested_dissection.h). One core is left to the caller, which
+  // assembles the system meanwhile (bcm/bcm_analysis.h): on 2 cores both are busy already, and
+  // two parts there measured no faster than the whole graph (docs/benchmarks.md).
+  const int parts = dissection_parts(thread_budget() - 1);
+  std::vector<int> perm;
+  if (s->cholmod().method[0].ordering == CHOLMOD_METIS && parts > 1) perm = nested_dissection(lower, parts);
+  if (!perm.empty()) {
+    s->analyze_given(lower, perm);
+    s->ordering = "metis, " + std::to_string(parts) + " parts in parallel";
+  }
+  if (perm.empty() || !s->has_factor()) {
+    s->analyzePattern(lower);
+    const int used = s->cholmod().selected >= 0 ? s->cholmod().method[s->cholmod().selected].ordering : -1;
+    s->ordering = used == CHOLMOD_METIS ? "metis" : used == CHOLMOD_AMD ? "amd" : "cholmod";
+  }
   if (status) *status = s->cholmod().status;
   if (!s->has_factor() || s->cholmod().status < CHOLMOD_OK) return nullptr;
   return s;
@@ -403,6 +434,20 @@ double SparseSolver::relative_residual(const Eigen::MatrixXd& x, const Eigen::Ma
 }
 
 SolverKind SparseSolver::kind() const { return impl_->kind; }
+
+std::string SparseSolver::ordering() const {
+#if FREEFORM_HAVE_SUITESPARSE
+  if (const auto* s = std::get_if<CholmodPtr>(&impl_->f)) return (*s)->ordering;
+#endif
+  return {};
+}
+
+double SparseSolver::factor_nonzeros() const {
+#if FREEFORM_HAVE_SUITESPARSE
+  if (const auto* s = std::get_if<CholmodPtr>(&impl_->f)) return (*s)->cholmod().lnz;
+#endif
+  return 0;
+}
 bool SparseSolver::reused_analysis() const { return impl_->reused_analysis; }
 std::string SparseSolver::name() const { return kind_name(impl_->kind); }
 

@@ -62,6 +62,10 @@ class SparseSolver {
   SolverKind kind() const;
   std::string name() const;  // e.g. "cholmod-supernodal-llt"
   bool reused_analysis() const;  // the factorization used the CholeskyAnalysis passed in
+  // CHOLMOD only (else empty / 0): how its rows were ordered ("amd", "metis", "metis, N parts
+  // in parallel") and the factor's nonzeros.
+  std::string ordering() const;
+  double factor_nonzeros() const;
 
  private:
   struct Impl;
