@@ -31,6 +31,6 @@ print(json.dumps({
     "precompute_ms": t["assembly"] + t["factorization"] + t["basis"] + t["refinement"]
                      + r["multiresolution"]["decomposition_ms"],
     "timings_ms": t, "multiresolution_ms": {k: r["multiresolution"][k] for k in ("decomposition_ms", "operator_shape_ms", "reconstruct_ms")},
-    "forward_error": r["forward_error"], "refinement": r["refinement"], "residual": r["residual"],
+    "precompute": r["precompute"], "forward_error": r["forward_error"], "refinement": r["refinement"], "residual": r["residual"],
     "peak_memory_mb": r["peak_memory_mb"]}, indent=1))
 PY

@@ -7,6 +7,7 @@
 
 #include "freeform/bcm/bcm_analysis.h"
 #include "freeform/bcm/bcm_system.h"
+#include "freeform/common/parallel.h"
 
 #include <chrono>
 #include <future>
@@ -80,6 +81,7 @@ struct LargePlane {
 };
 
 TEST(BcmAnalysis, SolverUsesItAndFallsBackForAnotherPattern) {
+  if (thread_budget() < 2) GTEST_SKIP() << "FREEFORM_THREADS=1: no analysis ahead";
   const LargePlane p;
   const Regions regions = p.regions(0.001);
   ASSERT_GE(regions.n_free(), kSmall);
@@ -106,6 +108,7 @@ TEST(BcmAnalysis, SolverUsesItAndFallsBackForAnotherPattern) {
 }
 
 TEST(BcmAnalysis, StartsOnlyForLargeSymmetricCholeskySystems) {
+  if (thread_budget() < 2) GTEST_SKIP() << "FREEFORM_THREADS=1: no analysis ahead";
   const LargePlane p;
   const Regions large = p.regions(0.001);
   const BumpyScene bumpy;
@@ -136,6 +139,7 @@ TEST(BcmAnalysis, PatternStopsWhenAsked) {
 // thread is held between the pattern and the ordering while the analysis, then the mesh and
 // regions it read, are destroyed; released, it must not touch them (ASan would see it).
 TEST(BcmAnalysis, DroppedWithoutWaitingForTheOrdering) {
+  if (thread_budget() < 2) GTEST_SKIP() << "FREEFORM_THREADS=1: no analysis ahead";
   auto p = std::make_unique<LargePlane>();
   auto regions = std::make_unique<Regions>(p->regions(0.001));
   BcmSettings s;

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -45,6 +46,45 @@ const char* kGoodEdit = R"({
 })";
 
 }  // namespace
+
+// Issue 43: the precompute's wall and CPU time, whole and per phase (adding up to the whole),
+// the threads it may use, and FREEFORM_THREADS capping them (the pool's and OpenBLAS's).
+TEST(CliDeform, ReportsWallAndCpuTimePerPrecomputePhase) {
+  const Workspace s;
+  for (const char* threads : {"", "1"}) {
+    SCOPED_TRACE(std::string("FREEFORM_THREADS=") + threads);
+    if (*threads) setenv("FREEFORM_THREADS", threads, 1);
+    const auto report = s.dir / "report.json";
+    const CliRun r = freeform_cli("deform " + q(s.mesh) + " --edit " + q(s.edit(kGoodEdit)) + " -o " +
+                                  q(s.dir / "out.ply") + " --report " + q(report));
+    unsetenv("FREEFORM_THREADS");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(slurp(report))["precompute"];
+    std::vector<std::string> names;
+    double wall = 0, cpu = 0;
+    for (const auto& p : j["phases"]) {
+      names.push_back(p["name"]);
+      EXPECT_GE(p["wall_ms"].get<double>(), 0.0) << names.back();
+      EXPECT_GE(p["cpu_ms"].get<double>(), 0.0) << names.back();
+      wall += p["wall_ms"].get<double>();
+      cpu += p["cpu_ms"].get<double>();
+    }
+    EXPECT_EQ(names, (std::vector<std::string>{"operator_shape", "assembly", "factorization", "basis", "refinement",
+                                               "model_setup"}));
+    EXPECT_NEAR(wall, j["wall_ms"].get<double>(), 1e-6 * j["wall_ms"].get<double>());
+    EXPECT_NEAR(cpu, j["cpu_ms"].get<double>(), 1e-6 * j["cpu_ms"].get<double>());
+    EXPECT_GT(j["wall_ms"].get<double>(), 0.0);
+    EXPECT_EQ(j["analysis_ahead"]["wall_ms"], 0.0);  // below BcmAnalysis::kMinFree
+    EXPECT_FALSE(j["ordering"].get<std::string>().empty());
+    EXPECT_GT(j["factor_nonzeros"].get<double>(), 0.0);
+    if (*threads) {
+      EXPECT_EQ(j["threads"], 1);
+      EXPECT_LE(j["blas_threads"].get<int>(), 1);  // 0: not OpenBLAS
+    } else {
+      EXPECT_GE(j["threads"].get<int>(), 1);
+    }
+  }
+}
 
 TEST(CliDeform, EditWritesMeshAndReport) {
   const Workspace s;

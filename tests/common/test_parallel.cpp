@@ -1,11 +1,14 @@
 // parallel_for (common/parallel.h): every index exactly once, for any size and grain, also when
 // two threads start loops at once (one of them then runs alone) and after many loops in a row
-// (generations of the pool's job slot).
+// (generations of the pool's job slot). run_tasks: every task once on up to thread_budget()
+// threads, the first exception rethrown after all tasks ran, its threads' CPU time counted.
 #include "freeform/common/parallel.h"
 
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -57,4 +60,31 @@ TEST(ParallelFor, ChunkReductionsAddUp) {
     sum += local;
   });
   EXPECT_EQ(sum.load(), static_cast<long long>(n) * (n - 1) / 2);
+}
+
+TEST(RunTasks, EveryTaskOnceAndTheFirstErrorRethrown) {
+  EXPECT_GE(freeform::thread_budget(), 1);
+  for (int n : {0, 1, 3, 64}) {
+    std::vector<std::atomic<int>> hits(static_cast<std::size_t>(n));
+    freeform::run_tasks(n, [&](int i) { hits[static_cast<std::size_t>(i)].fetch_add(1); });
+    for (int i = 0; i < n; ++i) EXPECT_EQ(hits[static_cast<std::size_t>(i)].load(), 1) << n << " " << i;
+  }
+  std::atomic<int> ran{0};
+  EXPECT_THROW(freeform::run_tasks(8,
+                                   [&](int i) {
+                                     ++ran;
+                                     if (i % 3 == 1) throw std::runtime_error("task " + std::to_string(i));
+                                   }),
+               std::runtime_error);
+  EXPECT_EQ(ran.load(), 8);
+}
+
+TEST(RunTasks, CountsItsThreadsCpuTimeForTheCaller) {
+  if (freeform::thread_budget() < 2) GTEST_SKIP() << "one thread: the caller runs every task";
+  const double before = freeform::helper_cpu_ms();
+  freeform::run_tasks(2, [](int) {
+    volatile double x = 0;
+    for (int i = 0; i < 20000000; ++i) x = x + 1e-9 * i;
+  });
+  EXPECT_GT(freeform::helper_cpu_ms(), before);
 }

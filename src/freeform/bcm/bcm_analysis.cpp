@@ -74,6 +74,7 @@ BcmAnalysis::BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSett
                          std::function<void()> before_ordering) {
   if (regions.n_free() < min_free || !expect_symmetric(settings)) return;
   if (settings.solver != SolverKind::Auto && settings.solver != SolverKind::CholmodSupernodal) return;
+  if (thread_budget() < 2) return;  // FREEFORM_THREADS=1: no thread beside the caller's
   shared_ = std::make_shared<Shared>();
   read_done_ = shared_->read_done.get_future();
   future_ = shared_->result.get_future();
