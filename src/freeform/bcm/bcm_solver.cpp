@@ -131,6 +131,16 @@ double position_error(const Eigen::VectorXd& column_error, const std::vector<std
   return e;
 }
 
+
+// Anisotropic bending: the operator's cotangents and areas come from the equalized conformal
+// map of the support grown by k rings (docs/anisotropic.md).
+AnisotropicDomain support_domain(const Mesh& mesh, const Regions& regions, int order) {
+  std::vector<Vertex> support;
+  for (Vertex v : mesh.vertices())
+    if (v.idx() < regions.n_vertices() && regions.role(v) != Role::Fixed) support.push_back(v);
+  return anisotropic_domain(mesh, support, order);
+}
+
 }  // namespace
 
 BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
@@ -142,8 +152,6 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   progress.step("assembly", 0.0);
   std::optional<BcmAnalysis> own_analysis;  // ordering the pattern on another thread meanwhile
   if (!analysis) analysis = &own_analysis.emplace(mesh, regions, settings);
-  // Anisotropic bending: the operator's cotangents and areas come from the equalized
-  // conformal map of the support grown by k rings (docs/anisotropic.md).
   // Each phase's wall and CPU time (the report's "phases"); returns its wall time.
   const auto record = [this](const char* name, const PhaseClock& clock) {
     stats_.phases.push_back({name, clock.elapsed()});
@@ -152,10 +160,7 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   AnisotropicDomain domain;
   if (settings.anisotropic) {
     const PhaseClock clock;
-    std::vector<Vertex> support;
-    for (Vertex v : mesh.vertices())
-      if (v.idx() < regions.n_vertices() && regions.role(v) != Role::Fixed) support.push_back(v);
-    domain = anisotropic_domain(mesh, support, settings.order);
+    domain = support_domain(mesh, regions, settings.order);
     stats_.anisotropic = domain.used;
     stats_.principal_extents = domain.extents;
     stats_.anisotropic_fallback = domain.fallback;
@@ -187,6 +192,41 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   progress.step("basis", 0.6);
 
   clock.emplace();
+  const Eigen::MatrixXd xc = constrained_values(mesh, regions, sys.constrained, handle_frames(mesh, regions));
+  Eigen::MatrixXd x;
+  {
+    const Eigen::MatrixXd rhs = -(sys.a_pc * xc);
+    x = solver->solve(rhs);  // one call, all 3 + 4M right-hand sides
+    stats_.residual = solver->relative_residual(x, rhs);
+  }
+  stats_.basis_ms = record("basis", *clock);
+  progress.step("refinement", 0.75);
+  clock.emplace();
+  const Refinement refinement = refine_bcm_solution(sys, *solver, xc, x, progress);
+  stats_.refinement_ms = record("refinement", *clock);
+  if (!keep_system) solver.reset();  // the factor (2.6 GB at 1M free, k = 3) before the copies below
+  stats_.refinement_steps = refinement.steps;
+  stats_.refinement_converged = refinement.converged;
+  const double diagonal = bounding_diagonal(mesh.positions());
+  stats_.forward_error = position_error(refinement.correction, frames_) / diagonal;
+  stats_.unrefined_error = position_error(refinement.initial, frames_) / diagonal;
+  if (rows == RowOrder::ByIndex) sort_rows_by_vertex(x);
+  const int n_mov = n_movable();
+  constant_ = x.leftCols(3);
+  basis_ = x.rightCols(4 * n_mov);
+  if (n_mov > kStackHandles) scratch_.resize(static_cast<std::size_t>(16 * n_mov));
+  if (keep_system) {
+    // swap: Eigen 3.4's SparseMatrix has no move constructor, std::move would copy.
+    system_ = std::make_unique<BcmFactoredSystem>(
+        BcmFactoredSystem{std::move(sys.constrained), {}, {}, {}, std::move(*solver), settings.order});
+    system_->a_pc.swap(sys.a_pc);
+    system_->lap.swap(sys.lap);
+    system_->outer.swap(sys.outer);
+  }
+  progress.step("refinement", 0.9);
+}
+
+std::vector<double> BcmSolver::handle_frames(const Mesh& mesh, const Regions& regions) {
   // Virtual frame per movable handle: centroid c and c + s e_i, s = extent (> 0).
   const int n_mov = regions.n_movable();
   frames_.resize(static_cast<std::size_t>(n_mov));
@@ -220,13 +260,18 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
       handle_rest_.push_back(mesh.position(v));
     }
   }
+  return extent;
+}
 
-  // Constrained values: rest positions (fixed, immovable handles) in columns 0-2, and
-  // Q_m (affine coordinates in the frame, rows sum to 1) in columns 3 + 4m .. 3 + 4m + 3.
-  const int n_c = static_cast<int>(sys.constrained.size());
-  Eigen::MatrixXd xc = Eigen::MatrixXd::Zero(n_c, 3 + 4 * n_mov);
+Eigen::MatrixXd BcmSolver::constrained_values(const Mesh& mesh, const Regions& regions,
+                                              const std::vector<Vertex>& constrained,
+                                              const std::vector<double>& extent) const {
+  // Rest positions (fixed, immovable handles) in columns 0-2, and Q_m (affine coordinates in
+  // the frame, rows sum to 1) in columns 3 + 4m .. 3 + 4m + 3.
+  const int n_c = static_cast<int>(constrained.size());
+  Eigen::MatrixXd xc = Eigen::MatrixXd::Zero(n_c, 3 + 4 * n_movable());
   for (int j = 0; j < n_c; ++j) {
-    const Vertex v = sys.constrained[static_cast<std::size_t>(j)];
+    const Vertex v = constrained[static_cast<std::size_t>(j)];
     const int h = regions.handle_of(v);
     const int m = h >= 0 ? regions.movable_index(h) : -1;
     if (m < 0) {
@@ -238,46 +283,19 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
       xc.row(j).segment<3>(3 + 4 * m + 1) = a.transpose();
     }
   }
-  Eigen::MatrixXd x;
-  {
-    const Eigen::MatrixXd rhs = -(sys.a_pc * xc);
-    x = solver->solve(rhs);  // one call, all 3 + 4M right-hand sides
-    stats_.residual = solver->relative_residual(x, rhs);
-  }
-  stats_.basis_ms = record("basis", *clock);
-  progress.step("refinement", 0.75);
-  clock.emplace();
-  const Refinement refinement = refine_bcm_solution(sys, *solver, xc, x, progress);
-  stats_.refinement_ms = record("refinement", *clock);
-  if (!keep_system) solver.reset();  // the factor (2.6 GB at 1M free, k = 3) before the copies below
-  stats_.refinement_steps = refinement.steps;
-  stats_.refinement_converged = refinement.converged;
-  const double diagonal = bounding_diagonal(mesh.positions());
-  stats_.forward_error = position_error(refinement.correction, frames_) / diagonal;
-  stats_.unrefined_error = position_error(refinement.initial, frames_) / diagonal;
-  if (rows == RowOrder::ByIndex) {
-    std::vector<int> order(free_.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(),
-              [&](int a, int b) { return free_[static_cast<std::size_t>(a)] < free_[static_cast<std::size_t>(b)]; });
-    const Eigen::Map<const Eigen::VectorXi> perm(order.data(), static_cast<Eigen::Index>(order.size()));
-    x = Eigen::MatrixXd(x(perm, Eigen::all));
-    std::vector<Vertex> sorted(free_.size());
-    for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = free_[static_cast<std::size_t>(order[i])];
-    free_ = std::move(sorted);
-  }
-  constant_ = x.leftCols(3);
-  basis_ = x.rightCols(4 * n_mov);
-  if (n_mov > kStackHandles) scratch_.resize(static_cast<std::size_t>(16 * n_mov));
-  if (keep_system) {
-    // swap: Eigen 3.4's SparseMatrix has no move constructor, std::move would copy.
-    system_ = std::make_unique<BcmFactoredSystem>(
-        BcmFactoredSystem{std::move(sys.constrained), {}, {}, {}, std::move(*solver), settings.order});
-    system_->a_pc.swap(sys.a_pc);
-    system_->lap.swap(sys.lap);
-    system_->outer.swap(sys.outer);
-  }
-  progress.step("refinement", 0.9);
+  return xc;
+}
+
+void BcmSolver::sort_rows_by_vertex(Eigen::MatrixXd& x) {
+  std::vector<int> order(free_.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return free_[static_cast<std::size_t>(a)] < free_[static_cast<std::size_t>(b)]; });
+  const Eigen::Map<const Eigen::VectorXi> perm(order.data(), static_cast<Eigen::Index>(order.size()));
+  x = Eigen::MatrixXd(x(perm, Eigen::all));
+  std::vector<Vertex> sorted(free_.size());
+  for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = free_[static_cast<std::size_t>(order[i])];
+  free_ = std::move(sorted);
 }
 
 int BcmSolver::n_free() const { return static_cast<int>(free_.size()); }

@@ -133,6 +133,14 @@ class BcmSolver {
   std::unique_ptr<BcmFactoredSystem> release_system() { return std::move(system_); }
 
  private:
+  // The constructor's phases: each movable handle's virtual frame (frames_, centroids_, the
+  // handle vertices; returns the frames' extents), the constrained values [x_c | Q_m], and the
+  // rows put in vertex order (RowOrder::ByIndex).
+  std::vector<double> handle_frames(const Mesh& mesh, const Regions& regions);
+  Eigen::MatrixXd constrained_values(const Mesh& mesh, const Regions& regions, const std::vector<Vertex>& constrained,
+                                     const std::vector<double>& extent) const;
+  void sort_rows_by_vertex(Eigen::MatrixXd& x);
+
   BcmStats stats_;
   std::vector<Vertex> free_;
   RowMatrixX3d constant_;

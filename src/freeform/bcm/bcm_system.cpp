@@ -198,12 +198,10 @@ void check_stencil_size(const Mesh& mesh, const std::vector<Vertex>& free, int k
   }
 }
 
-}  // namespace
-
-BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& positions, const Regions& regions,
-                              const BcmSettings& settings, bool split_operator) {
+// The inputs' consistency with the mesh (sizes, segment vertices).
+void check_inputs(const Mesh& mesh, const VertexData<Vec3>& positions, const Regions& regions,
+                  const BcmSettings& settings) {
   validate_settings(settings);
-  const int k = settings.order;
   const int nv = mesh.n_vertices();
   if (regions.n_vertices() != nv)
     throw InvalidInput("the regions were made for a mesh with " + std::to_string(regions.n_vertices()) +
@@ -217,37 +215,33 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
       if (v.idx() < 0 || v.idx() >= nv)
         throw InvalidInput("boundary smoothness segment " + std::to_string(i) + " names vertex " +
                            std::to_string(v.idx()) + ", but the mesh has " + std::to_string(nv) + " vertices");
+}
 
-  BcmSystem sys;
-  sys.free = breadth_first_order(mesh, regions.free_vertices());
-  check_stencil_size(mesh, sys.free, k);
-  const Patch p = build_patch(mesh, sys.free, k);
-  const int n_free = p.n_free;
-  const int n_loc = static_cast<int>(p.order.size());
-  const int n_inner = p.n_inner;
-  check_constrained_reach(mesh, regions, p);
-  for (Vertex v : p.order)
-    if (!positions[v].allFinite())
-      throw InvalidInput("vertex " + std::to_string(v.idx()) + " has a non-finite position");
+// Per face incident to the (k-1)-ring: the cotangent opposite each of its three halfedges; per
+// patch vertex its mixed area. Degenerate and clamped faces are counted into sys.
+struct FaceWeights {
+  FaceData<int> local_face;  // face -> index into cot, -1 outside
+  std::vector<std::array<double, 3>> cot;
+  Eigen::VectorXd area;
+  double total_area = 0.0;
+};
 
-  // Faces incident to the (k-1)-ring: every weight and area the rows need.
+FaceWeights face_weights(const Mesh& mesh, const VertexData<Vec3>& positions, const Patch& p, BcmSystem& sys) {
   std::vector<int> faces;
-  for (int i = 0; i < n_inner; ++i)
+  for (int i = 0; i < p.n_inner; ++i)
     for (Halfedge h : mesh.outgoing(p.order[static_cast<std::size_t>(i)])) {
       const Face f = mesh.face(h);
       if (f.is_valid()) faces.push_back(f.idx());
     }
   std::sort(faces.begin(), faces.end());
   faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-
-  // Per assembled face: the cotangent opposite each of its three halfedges, and the areas.
-  FaceData<int> local_face(static_cast<std::size_t>(mesh.n_faces()), -1);
-  std::vector<std::array<double, 3>> face_cot(faces.size(), {0.0, 0.0, 0.0});
-  Eigen::VectorXd area = Eigen::VectorXd::Zero(n_loc);
-  double total_area = 0.0;
+  FaceWeights out;
+  out.local_face = FaceData<int>(static_cast<std::size_t>(mesh.n_faces()), -1);
+  out.cot.assign(faces.size(), {0.0, 0.0, 0.0});
+  out.area = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(p.order.size()));
   for (std::size_t fl = 0; fl < faces.size(); ++fl) {
     const Face f(faces[fl]);
-    local_face[f] = static_cast<int>(fl);
+    out.local_face[f] = static_cast<int>(fl);
     const detail::FaceCorners c = detail::face_corners(mesh, f);
     const detail::CornerWeights w = detail::corner_weights(positions[c.v[0]], positions[c.v[1]], positions[c.v[2]]);
     if (w.degenerate) {
@@ -255,30 +249,33 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
       continue;
     }
     // face_corners: corner q lies opposite c.h[q], and c.h = (halfedge(f), next, next).
-    face_cot[fl] = w.cot;
+    out.cot[fl] = w.cot;
     sys.clamped_cotangents += w.clamped;
     for (std::size_t q = 0; q < 3; ++q) {
-      area[p.local[c.v[q]]] += w.area[q];
-      total_area += w.area[q];
+      out.area[p.local[c.v[q]]] += w.area[q];
+      out.total_area += w.area[q];
     }
   }
+  return out;
+}
+
+// L rows of the (k-1)-ring (columns: the whole patch), straight from the adjacency.
+Csr laplacian_rows(const Mesh& mesh, const Patch& p, const FaceWeights& fw) {
   auto half_cot = [&](Halfedge h) {  // cotangent opposite h in its face (0 on the mesh boundary)
     const Face f = mesh.face(h);
     if (!f.is_valid()) return 0.0;
     const Halfedge h0 = mesh.halfedge(f);
     const int q = h == h0 ? 0 : h == mesh.next(h0) ? 1 : 2;
-    return face_cot[static_cast<std::size_t>(local_face[f])][static_cast<std::size_t>(q)];
+    return fw.cot[static_cast<std::size_t>(fw.local_face[f])][static_cast<std::size_t>(q)];
   };
-
-  // L rows of the (k-1)-ring (columns: the whole patch), straight from the adjacency.
   Csr lap;
-  lap.rows = n_inner;
-  lap.cols = n_loc;
-  lap.outer.reserve(static_cast<std::size_t>(n_inner) + 1);
-  lap.inner.reserve(static_cast<std::size_t>(n_inner) * 8);
-  lap.value.reserve(static_cast<std::size_t>(n_inner) * 8);
+  lap.rows = p.n_inner;
+  lap.cols = static_cast<int>(p.order.size());
+  lap.outer.reserve(static_cast<std::size_t>(p.n_inner) + 1);
+  lap.inner.reserve(static_cast<std::size_t>(p.n_inner) * 8);
+  lap.value.reserve(static_cast<std::size_t>(p.n_inner) * 8);
   std::vector<std::pair<int, double>> row;
-  for (int i = 0; i < n_inner; ++i) {
+  for (int i = 0; i < p.n_inner; ++i) {
     row.clear();
     double diagonal = 0.0;
     for (Halfedge h : mesh.outgoing(p.order[static_cast<std::size_t>(i)])) {
@@ -294,24 +291,55 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
     }
     lap.outer.push_back(static_cast<int>(lap.inner.size()));
   }
+  return lap;
+}
 
-  // Smoothness c per patch vertex and the weights Lam_m D of each level.
-  std::vector<double> c(static_cast<std::size_t>(n_loc));
+// Lam_m D of each level m = 1 .. k-1 over the (k-1)-ring (smoothness_lambda of each vertex's c
+// over twice its floored area); counts the floored vertices into sys.
+void level_weights(const Regions& regions, const BcmSettings& settings, const Patch& p, const FaceWeights& fw,
+                   BcmSystem& sys) {
+  const int n_inner = p.n_inner;
+  std::vector<double> c(p.order.size());
   {
     const std::vector<double> c_global = smoothness_per_vertex(regions, settings);
-    for (int i = 0; i < n_loc; ++i) c[static_cast<std::size_t>(i)] = c_global[static_cast<std::size_t>(p.order[static_cast<std::size_t>(i)].idx())];
+    for (std::size_t i = 0; i < c.size(); ++i) c[i] = c_global[static_cast<std::size_t>(p.order[i].idx())];
   }
   // The floor of operators' mixed_voronoi_areas (kAreaFloorRatio of the mean vertex area), over
   // the patch; floored vertices are counted like there.
-  const double area_floor = detail::kAreaFloorRatio * (n_inner > 0 && total_area > 0.0 ? total_area / n_inner : 1.0);
-  for (int i = 0; i < n_inner; ++i) sys.zero_area_vertices += area[i] >= area_floor ? 0 : 1;
-
-  // Y_{m+1} = L Lam_m D Y_m for m = 1 .. k-1 (rows shrink ring by ring, the free rows last).
-  for (int m = 1; m <= k - 1; ++m) {
-    Eigen::VectorXd& w = sys.level_weights.emplace_back(Eigen::VectorXd::Zero(n_loc));
+  const double area_floor =
+      detail::kAreaFloorRatio * (n_inner > 0 && fw.total_area > 0.0 ? fw.total_area / n_inner : 1.0);
+  for (int i = 0; i < n_inner; ++i) sys.zero_area_vertices += fw.area[i] >= area_floor ? 0 : 1;
+  for (int m = 1; m <= settings.order - 1; ++m) {
+    Eigen::VectorXd& w = sys.level_weights.emplace_back(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(c.size())));
     for (int i = 0; i < n_inner; ++i)
-      w[i] = smoothness_lambda(c[static_cast<std::size_t>(i)], m) / (2.0 * std::max(area[i], area_floor));
+      w[i] = smoothness_lambda(c[static_cast<std::size_t>(i)], m) / (2.0 * std::max(fw.area[i], area_floor));
   }
+}
+
+}  // namespace
+
+BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& positions, const Regions& regions,
+                              const BcmSettings& settings, bool split_operator) {
+  check_inputs(mesh, positions, regions, settings);
+  const int k = settings.order;
+  BcmSystem sys;
+  sys.free = breadth_first_order(mesh, regions.free_vertices());
+  check_stencil_size(mesh, sys.free, k);
+  const Patch p = build_patch(mesh, sys.free, k);
+  const int n_free = p.n_free;
+  const int n_loc = static_cast<int>(p.order.size());
+  const int n_inner = p.n_inner;
+  check_constrained_reach(mesh, regions, p);
+  for (Vertex v : p.order)
+    if (!positions[v].allFinite())
+      throw InvalidInput("vertex " + std::to_string(v.idx()) + " has a non-finite position");
+
+  const Csr lap = [&] {
+    const FaceWeights fw = face_weights(mesh, positions, p, sys);
+    level_weights(regions, settings, p, fw, sys);
+    return laplacian_rows(mesh, p, fw);
+  }();
+  // Y_{m+1} = L Lam_m D Y_m for m = 1 .. k-1 (rows shrink ring by ring, the free rows last).
   for (int r = 0; r <= k; ++r) sys.ring_rows.push_back(row_count(p, r));
   auto apply_levels = [&](const Csr& first, Csr& out) -> const Csr& {
     const Csr* rows = &first;

@@ -62,6 +62,44 @@ OperatorShape wanted_shape(const Mesh& mesh, const Regions& regions, const BcmSe
 
 }  // namespace
 
+// The search walks local indices (compact, free vertices first in breadth-first order) instead
+// of the mesh's: at 1M free most of its time was cache misses on #V-sized arrays. Per local
+// vertex within rings + 1 rings of the free set, in mesh.outgoing order: the neighbour and the
+// face before it (-1 on a boundary).
+struct MultiresSolver::LocalAdjacency {
+  struct Step {
+    int to, face;
+  };
+  std::vector<int> offset;
+  std::vector<Step> steps;
+  std::vector<char> near;  // within one ring of the free set
+
+  LocalAdjacency(const Mesh& mesh, const std::vector<int>& local_global, const VertexData<int>& dist,
+                 const VertexData<int>& local, const FaceData<int>& local_face, int rings)
+      : offset(local_global.size() + 1, 0), near(local_global.size(), 0) {
+    for (std::size_t l = 0; l < local_global.size(); ++l) {
+      const Vertex v(local_global[l]);
+      near[l] = dist[v] >= 0 && dist[v] <= 1;  // handle vertices may be far (-1)
+      if (dist[v] >= 0 && dist[v] <= rings + 1)
+        for (Halfedge he : mesh.outgoing(v)) {
+          const Face f = mesh.face(he);
+          steps.push_back({local[mesh.to_vertex(he)], f.is_valid() ? local_face[f] : -1});
+        }
+      offset[l + 1] = static_cast<int>(steps.size());
+    }
+  }
+  std::span<const Step> around(int l) const {
+    return {steps.data() + offset[static_cast<std::size_t>(l)], steps.data() + offset[static_cast<std::size_t>(l) + 1]};
+  }
+};
+
+// Per thread: the search's fronts and candidates, and the marks of the free vertex that saw a
+// local vertex / face last (instead of linear searches over the candidates: 0.5-0.9 s of the
+// encoding's 8 s at 1M free).
+struct MultiresSolver::EncodeScratch {
+  std::vector<int> frontier, next, cand, vertex_seen, face_seen;
+};
+
 MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                                const MultiresOptions& options, const Progress& progress)
     : MultiresSolver(mesh, regions, settings, options, progress, wanted_shape(mesh, regions, settings, options, progress)) {}
@@ -83,83 +121,23 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
   const auto t0 = Clock::now();
   const std::vector<Vertex>& free = bcm_.free_vertices();
   n_free_ = static_cast<int>(free.size());
-  const int rings = options.search_rings;
-
-  // --- local vertices: free (BCM order), movable handle vertices, then constant ones ---
   // The candidate search starts at the base vertex nearest to x_i, found by a descent that stays
   // within one ring of the free vertices; candidate faces lie within `rings` rings of it. So
   // normals are recomputed within rings + 1 rings of the free vertices (this includes the
   // support's first ring), and positions are needed one ring further.
-  const int normal_rings = rings + 1;
+  const int normal_rings = options.search_rings + 1;
   const VertexData<int> dist = ring_distance(mesh, free, normal_rings + 1);
   VertexData<int> local(static_cast<std::size_t>(n_vertices_), -1);
-  auto add_local = [&](Vertex v) {
-    if (local[v] >= 0) return;
-    local[v] = static_cast<int>(local_global_.size());
-    local_global_.push_back(v.idx());
-  };
-  for (Vertex v : free) add_local(v);
-  for (std::size_t h = 0; h < regions.handles().size(); ++h) {
-    const int m = regions.movable_index(static_cast<int>(h));
-    if (m < 0) continue;
-    for (Vertex v : regions.handles()[h].vertices) {
-      add_local(v);
-      handle_owner_.push_back(m);
-      handle_rest_.push_back(mesh.position(v));
-    }
-  }
-  n_moving_ = static_cast<int>(local_global_.size());
-  for (Vertex v : mesh.vertices())
-    if (dist[v] >= 0) add_local(v);
-  const int n_local = static_cast<int>(local_global_.size());
-
-  // --- local faces: every face with a corner whose normal is recomputed, in local order ---
   FaceData<int> local_face(static_cast<std::size_t>(mesh.n_faces()), -1);
-  for (int l = 0; l < n_local; ++l)
-    for (Halfedge around : mesh.outgoing(Vertex(local_global_[static_cast<std::size_t>(l)]))) {
-      const Face f = mesh.face(around);
-      if (!f.is_valid() || local_face[f] >= 0) continue;
-      const auto vs = mesh.vertices(f);
-      if (std::none_of(vs.begin(), vs.end(), [&](Vertex v) { return dist[v] >= 0 && dist[v] <= normal_rings; }))
-        continue;
-      local_face[f] = static_cast<int>(faces_.size());
-      faces_.push_back({local[vs[0]], local[vs[1]], local[vs[2]]});
-      if (std::any_of(vs.begin(), vs.end(), [&](Vertex v) { return regions.role(v) == Role::Free; })) {
-        detail_faces_.push_back(local_face[f]);
-        for (Vertex v : vs) detail_face_global_.push_back(v.idx());
-      }
-    }
-  // Per frame: face normals of normal_faces_, then each normal vertex sums those around it.
-  auto set_normal_vertices = [&](const std::vector<char>& wanted) {
-    normal_vertices_.clear();
-    normal_faces_.clear();
-    vf_faces_.clear();
-    vf_offset_.assign(1, 0);
-    std::vector<int> slot(faces_.size(), -1);  // local face -> its row among normal_faces_
-    for (int l = 0; l < n_local; ++l) {
-      if (!wanted[static_cast<std::size_t>(l)]) continue;
-      normal_vertices_.push_back(l);
-      for (Halfedge he : mesh.outgoing(Vertex(local_global_[static_cast<std::size_t>(l)]))) {
-        const Face f = mesh.face(he);
-        if (!f.is_valid()) continue;
-        int& r = slot[static_cast<std::size_t>(local_face[f])];
-        if (r < 0) {
-          r = static_cast<int>(normal_faces_.size());
-          normal_faces_.push_back(local_face[f]);
-        }
-        vf_faces_.push_back(r);
-      }
-      vf_offset_.push_back(static_cast<int>(vf_faces_.size()));
-    }
-    fnormal_.resize(static_cast<Eigen::Index>(normal_faces_.size()), 3);
-  };
+  build_local(mesh, regions, dist, normal_rings, local, local_face);
+  const int n_local = static_cast<int>(local_global_.size());
   {
     std::vector<char> wanted(static_cast<std::size_t>(n_local), 0);
     for (int l = 0; l < n_local; ++l) {
       const int d = dist[Vertex(local_global_[static_cast<std::size_t>(l)])];
       wanted[static_cast<std::size_t>(l)] = d >= 0 && d <= normal_rings;
     }
-    set_normal_vertices(wanted);
+    select_normal_vertices(mesh, local_face, wanted);
   }
 
   // --- rest base (identity manipulators) and its normals, with the per-frame code ---
@@ -175,152 +153,246 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
   codes_.resize(static_cast<std::size_t>(n_free_));
   min_ratio_.assign(static_cast<std::size_t>(n_free_), -std::numeric_limits<double>::infinity());
   rest_sign_.assign(static_cast<std::size_t>(n_free_), 0);
-  const double* B = base_.data();
-  const double* N = normal_.data();
-  const double tol = options.barycentric_tolerance;
-  const bool normal_encoding = resolved(options, shape) == MultiresOptions::Encoding::Normal;
-  // The search walks local indices (compact, free vertices first in breadth-first order)
-  // instead of the mesh's: at 1M free most of its time was cache misses on #V-sized arrays.
-  // Per local vertex within rings + 1 rings of the free set, in mesh.outgoing order: the
-  // neighbour and the face before it (-1 on a boundary).
-  struct Step {
-    int to, face;
-  };
-  std::vector<int> step_offset(static_cast<std::size_t>(n_local) + 1, 0);
-  std::vector<Step> steps;
-  std::vector<char> near(static_cast<std::size_t>(n_local), 0);  // within one ring of the free set
-  for (int l = 0; l < n_local; ++l) {
-    const Vertex v(local_global_[static_cast<std::size_t>(l)]);
-    near[static_cast<std::size_t>(l)] = dist[v] >= 0 && dist[v] <= 1;  // handle vertices may be far (-1)
-    if (dist[v] >= 0 && dist[v] <= rings + 1)
-      for (Halfedge he : mesh.outgoing(v)) {
-        const Face f = mesh.face(he);
-        steps.push_back({local[mesh.to_vertex(he)], f.is_valid() ? local_face[f] : -1});
-      }
-    step_offset[static_cast<std::size_t>(l) + 1] = static_cast<int>(steps.size());
+  if (vertex_frames_)
+    encode_vertex_frames(mesh, local, local_face);
+  else
+    encode_displaced(mesh, LocalAdjacency(mesh, local_global_, dist, local, local_face, options.search_rings),
+                     resolved(options, shape) == MultiresOptions::Encoding::Normal, options, progress);
+  progress.check();
+  count_codes();
+  if (!vertex_frames_) {  // per frame, normals are needed at the corners of the encodings only
+    std::vector<char> used(static_cast<std::size_t>(n_local), 0);
+    for (const Code& c : codes_) {
+      used[static_cast<std::size_t>(c.corner[0])] = 1;
+      if (c.corner[2] >= 0) used[static_cast<std::size_t>(c.corner[1])] = used[static_cast<std::size_t>(c.corner[2])] = 1;
+    }
+    select_normal_vertices(mesh, local_face, used);
   }
-  auto around = [&](int l) {
-    return std::span<const Step>(steps.data() + step_offset[static_cast<std::size_t>(l)],
-                                 steps.data() + step_offset[static_cast<std::size_t>(l) + 1]);
+  set_detail_rest_signs(mesh);
+  if (options.nonlinear) {  // the nonlinear base keeps the smooth rest base
+    VertexData<Vec3> rest_base = mesh.positions();
+    for (int i = 0; i < n_free_; ++i) rest_base[free[static_cast<std::size_t>(i)]] = base_.row(i).transpose();
+    NonlinearOptions on_base = *options.nonlinear;
+    on_base.smooth_rest = true;
+    nonlinear_ = std::make_unique<NonlinearSolver>(mesh, regions, bcm_, rest_base, on_base);
+  }
+  stats_.decomposition_ms = ms_since(t0) + shape.ms;
+  progress.step("detail", 1.0);
+}
+
+// Local vertices: free (BCM order), movable handle vertices, then the constant ones within
+// normal_rings + 1 rings; local faces: every face with a corner whose normal is recomputed.
+void MultiresSolver::build_local(const Mesh& mesh, const Regions& regions, const VertexData<int>& dist,
+                                 int normal_rings, VertexData<int>& local, FaceData<int>& local_face) {
+  auto add_local = [&](Vertex v) {
+    if (local[v] >= 0) return;
+    local[v] = static_cast<int>(local_global_.size());
+    local_global_.push_back(v.idx());
   };
-  if (vertex_frames_) encode_vertex_frames(mesh, local, set_normal_vertices);
+  for (Vertex v : bcm_.free_vertices()) add_local(v);
+  for (std::size_t h = 0; h < regions.handles().size(); ++h) {
+    const int m = regions.movable_index(static_cast<int>(h));
+    if (m < 0) continue;
+    for (Vertex v : regions.handles()[h].vertices) {
+      add_local(v);
+      handle_owner_.push_back(m);
+      handle_rest_.push_back(mesh.position(v));
+    }
+  }
+  n_moving_ = static_cast<int>(local_global_.size());
+  for (Vertex v : mesh.vertices())
+    if (dist[v] >= 0) add_local(v);
+  const int n_local = static_cast<int>(local_global_.size());
+  for (int l = 0; l < n_local; ++l)
+    for (Halfedge around : mesh.outgoing(Vertex(local_global_[static_cast<std::size_t>(l)]))) {
+      const Face f = mesh.face(around);
+      if (!f.is_valid() || local_face[f] >= 0) continue;
+      const auto vs = mesh.vertices(f);
+      if (std::none_of(vs.begin(), vs.end(), [&](Vertex v) { return dist[v] >= 0 && dist[v] <= normal_rings; }))
+        continue;
+      local_face[f] = static_cast<int>(faces_.size());
+      faces_.push_back({local[vs[0]], local[vs[1]], local[vs[2]]});
+      if (std::any_of(vs.begin(), vs.end(), [&](Vertex v) { return regions.role(v) == Role::Free; })) {
+        detail_faces_.push_back(local_face[f]);
+        for (Vertex v : vs) detail_face_global_.push_back(v.idx());
+      }
+    }
+}
+
+// Per frame: face normals of normal_faces_, then each normal vertex sums those around it.
+void MultiresSolver::select_normal_vertices(const Mesh& mesh, const FaceData<int>& local_face,
+                                            const std::vector<char>& wanted) {
+  normal_vertices_.clear();
+  normal_faces_.clear();
+  vf_faces_.clear();
+  vf_offset_.assign(1, 0);
+  std::vector<int> slot(faces_.size(), -1);  // local face -> its row among normal_faces_
+  for (std::size_t l = 0; l < wanted.size(); ++l) {
+    if (!wanted[l]) continue;
+    normal_vertices_.push_back(static_cast<int>(l));
+    for (Halfedge he : mesh.outgoing(Vertex(local_global_[l]))) {
+      const Face f = mesh.face(he);
+      if (!f.is_valid()) continue;
+      int& r = slot[static_cast<std::size_t>(local_face[f])];
+      if (r < 0) {
+        r = static_cast<int>(normal_faces_.size());
+        normal_faces_.push_back(local_face[f]);
+      }
+      vf_faces_.push_back(r);
+    }
+    vf_offset_.push_back(static_cast<int>(vf_faces_.size()));
+  }
+  fnormal_.resize(static_cast<Eigen::Index>(normal_faces_.size()), 3);
+}
+
+void MultiresSolver::encode_displaced(const Mesh& mesh, const LocalAdjacency& adjacency, bool normal_encoding,
+                                      const MultiresOptions& options, const Progress& progress) {
+  const std::vector<Vertex>& free = bcm_.free_vertices();
   const std::atomic<bool>* cancel = progress.cancel;
-#pragma omp parallel if (!vertex_frames_)
-  if (!vertex_frames_) {
-    std::vector<int> frontier, next, cand;
-    // Per-thread marks (the free vertex i that saw a vertex / face last) instead of linear
-    // searches over the candidates: 0.5-0.9 s of the encoding's 8 s at 1M free.
-    std::vector<int> vertex_seen, face_seen;
+#pragma omp parallel
+  {
+    EncodeScratch scratch;
     if (normal_encoding) {
-      vertex_seen.assign(static_cast<std::size_t>(n_local), -1);
-      face_seen.assign(faces_.size(), -1);
+      scratch.vertex_seen.assign(local_global_.size(), -1);
+      scratch.face_seen.assign(faces_.size(), -1);
     }
 #pragma omp for schedule(dynamic, 256)
     for (int i = 0; i < n_free_; ++i) {
       if (cancel && cancel->load(std::memory_order_relaxed)) continue;  // 5 s at 1M free: stop early
       const Vec3 x = mesh.position(free[static_cast<std::size_t>(i)]);
-      Code& code = codes_[static_cast<std::size_t>(i)];
-      code.corner = {-1, -1, -1};
-      // Descent to the nearest base vertex (local minimum of |b - x|) within one ring of the
-      // free set; free vertex i is local vertex i.
-      int start = i;
-      double dmin = (Map3(B + 3 * i) - x).squaredNorm();
-      for (int step = 0; step < kMaxDescent; ++step) {
-        int next_v = start;
-        for (const Step& e : around(start)) {
-          if (!near[static_cast<std::size_t>(e.to)]) continue;
-          const double d = (Map3(B + 3 * e.to) - x).squaredNorm();
-          if (d < dmin) {
-            dmin = d;
-            next_v = e.to;
-          }
-        }
-        if (next_v == start) break;
-        start = next_v;
-      }
-      bool found = false;
-      if (normal_encoding) {
-        multires::NormalFit best;
-        vertex_seen[static_cast<std::size_t>(start)] = i;
-        frontier.assign(1, start);
-        cand.clear();
-        for (int level = 1; level <= rings && !(found && level > 2); ++level) {
-          // Faces around the vertices at ring distance level - 1 (new ones only).
-          const std::size_t first_new = cand.size();
-          next.clear();
-          for (int g : frontier)
-            for (const Step& e : around(g)) {
-              if (e.face >= 0 && face_seen[static_cast<std::size_t>(e.face)] != i) {
-                face_seen[static_cast<std::size_t>(e.face)] = i;
-                cand.push_back(e.face);
-              }
-              if (vertex_seen[static_cast<std::size_t>(e.to)] != i) {
-                vertex_seen[static_cast<std::size_t>(e.to)] = i;
-                next.push_back(e.to);
-              }
-            }
-          frontier.swap(next);
-          for (std::size_t k = first_new; k < cand.size(); ++k) {
-            const auto& fc = faces_[static_cast<std::size_t>(cand[k])];
-            if (best.ok && multires::fit_height_lower_bound(x, Map3(B + 3 * fc[0]), Map3(B + 3 * fc[1]),
-                                                            Map3(B + 3 * fc[2]), tol) >= std::abs(best.h))
-              continue;  // cannot win: same choice, without its cubic
-            const multires::NormalFit fit = multires::fit_normal_displacement(
-                x, Map3(B + 3 * fc[0]), Map3(B + 3 * fc[1]), Map3(B + 3 * fc[2]), Map3(N + 3 * fc[0]),
-                Map3(N + 3 * fc[1]), Map3(N + 3 * fc[2]), tol);
-            if (fit.ok && (!best.ok || std::abs(fit.h) < std::abs(best.h))) {
-              best = fit;
-              code.corner = fc;
-            }
-          }
-          found = best.ok;
-        }
-        if (found) {
-          code.w = {best.u, best.v, best.w};
-          code.h = best.h;
-          const std::int8_t rest_sign = best.det > 0 ? 1 : (best.det < 0 ? -1 : 0);
-          rest_sign_[static_cast<std::size_t>(i)] = rest_sign;
-          const auto& fc = code.corner;
-          const multires::JacobianRay ray = multires::offset_jacobian_ray(
-              Map3(B + 3 * fc[0]), Map3(B + 3 * fc[1]), Map3(B + 3 * fc[2]), Map3(N + 3 * fc[0]), Map3(N + 3 * fc[1]),
-              Map3(N + 3 * fc[2]), best.u, best.v, best.w);
-          if (rest_sign > 0 && ray.a0 > 0.0) {
-            const double min_ratio = kFlattenFraction * ray.at(best.h) / ray.a0;
-            min_ratio_[static_cast<std::size_t>(i)] = min_ratio;
-            code.min_det = min_ratio * ray.a0;  // -inf (never) unless set here
-          }
-        }
-      }
-      if (!found) {
-        // Local frame at the nearest base vertex.
-        const Vec3 pa = Map3(B + 3 * start), n = Map3(N + 3 * start);
-        int nbr = -1;
-        double best_len = 0.0;
-        for (const Step& out : around(start)) {
-          const int l = out.to;
-          Vec3 e = Map3(B + 3 * l) - pa;
-          const double len = (e - e.dot(n) * n).norm();
-          if (len > best_len * (1.0 + 1e-12)) {
-            best_len = len;
-            nbr = l;
-          }
-        }
-        const Vec3 d = x - pa;
-        code.corner = {start, -1, -1};
-        code.w = {d[0], d[1], d[2]};
-        code.h = 0.0;
-        if (nbr >= 0 && n.squaredNorm() > 0.5) {
-          Vec3 e = Map3(B + 3 * nbr) - pa;
-          e = (e - e.dot(n) * n).normalized();
-          const Vec3 b = n.cross(e);
-          code.corner[1] = nbr;
-          code.w = {d.dot(e), d.dot(b), d.dot(n)};
-        }
-      }
+      codes_[static_cast<std::size_t>(i)].corner = {-1, -1, -1};
+      const int start = nearest_base_vertex(i, x, adjacency);
+      if (!normal_encoding || !encode_on_faces(i, x, start, adjacency, options, scratch))
+        encode_in_frame(i, x, start, adjacency);
     }
   }
+}
 
-  progress.check();
+// Descent to the nearest base vertex (local minimum of |b - x|) within one ring of the free set;
+// free vertex i is local vertex i.
+int MultiresSolver::nearest_base_vertex(int i, const Vec3& x, const LocalAdjacency& adjacency) const {
+  const double* B = base_.data();
+  int start = i;
+  double dmin = (Map3(B + 3 * i) - x).squaredNorm();
+  for (int step = 0; step < kMaxDescent; ++step) {
+    int next_v = start;
+    for (const LocalAdjacency::Step& e : adjacency.around(start)) {
+      if (!adjacency.near[static_cast<std::size_t>(e.to)]) continue;
+      const double d = (Map3(B + 3 * e.to) - x).squaredNorm();
+      if (d < dmin) {
+        dmin = d;
+        next_v = e.to;
+      }
+    }
+    if (next_v == start) break;
+    start = next_v;
+  }
+  return start;
+}
+
+// Normal displacement over the base triangles within `rings` rings of `start`: the fit of least
+// |height|. False if none fits.
+bool MultiresSolver::encode_on_faces(int i, const Vec3& x, int start, const LocalAdjacency& adjacency,
+                                     const MultiresOptions& options, EncodeScratch& scratch) {
+  using Step = LocalAdjacency::Step;
+  const auto around = [&](int l) { return adjacency.around(l); };
+  const double* B = base_.data();
+  const double* N = normal_.data();
+  const double tol = options.barycentric_tolerance;
+  const int rings = options.search_rings;
+  std::vector<int>& frontier = scratch.frontier;
+  std::vector<int>& next = scratch.next;
+  std::vector<int>& cand = scratch.cand;
+  std::vector<int>& vertex_seen = scratch.vertex_seen;
+  std::vector<int>& face_seen = scratch.face_seen;
+  Code& code = codes_[static_cast<std::size_t>(i)];
+  bool found = false;
+  multires::NormalFit best;
+  vertex_seen[static_cast<std::size_t>(start)] = i;
+  frontier.assign(1, start);
+  cand.clear();
+  for (int level = 1; level <= rings && !(found && level > 2); ++level) {
+    // Faces around the vertices at ring distance level - 1 (new ones only).
+    const std::size_t first_new = cand.size();
+    next.clear();
+    for (int g : frontier)
+      for (const Step& e : around(g)) {
+        if (e.face >= 0 && face_seen[static_cast<std::size_t>(e.face)] != i) {
+          face_seen[static_cast<std::size_t>(e.face)] = i;
+          cand.push_back(e.face);
+        }
+        if (vertex_seen[static_cast<std::size_t>(e.to)] != i) {
+          vertex_seen[static_cast<std::size_t>(e.to)] = i;
+          next.push_back(e.to);
+        }
+      }
+    frontier.swap(next);
+    for (std::size_t k = first_new; k < cand.size(); ++k) {
+      const auto& fc = faces_[static_cast<std::size_t>(cand[k])];
+      if (best.ok && multires::fit_height_lower_bound(x, Map3(B + 3 * fc[0]), Map3(B + 3 * fc[1]),
+                                                      Map3(B + 3 * fc[2]), tol) >= std::abs(best.h))
+        continue;  // cannot win: same choice, without its cubic
+      const multires::NormalFit fit = multires::fit_normal_displacement(
+          x, Map3(B + 3 * fc[0]), Map3(B + 3 * fc[1]), Map3(B + 3 * fc[2]), Map3(N + 3 * fc[0]),
+          Map3(N + 3 * fc[1]), Map3(N + 3 * fc[2]), tol);
+      if (fit.ok && (!best.ok || std::abs(fit.h) < std::abs(best.h))) {
+        best = fit;
+        code.corner = fc;
+      }
+    }
+    found = best.ok;
+  }
+  if (found) {
+    code.w = {best.u, best.v, best.w};
+    code.h = best.h;
+    const std::int8_t rest_sign = best.det > 0 ? 1 : (best.det < 0 ? -1 : 0);
+    rest_sign_[static_cast<std::size_t>(i)] = rest_sign;
+    const auto& fc = code.corner;
+    const multires::JacobianRay ray = multires::offset_jacobian_ray(
+        Map3(B + 3 * fc[0]), Map3(B + 3 * fc[1]), Map3(B + 3 * fc[2]), Map3(N + 3 * fc[0]), Map3(N + 3 * fc[1]),
+        Map3(N + 3 * fc[2]), best.u, best.v, best.w);
+    if (rest_sign > 0 && ray.a0 > 0.0) {
+      const double min_ratio = kFlattenFraction * ray.at(best.h) / ray.a0;
+      min_ratio_[static_cast<std::size_t>(i)] = min_ratio;
+      code.min_det = min_ratio * ray.a0;  // -inf (never) unless set here
+    }
+  }
+  return found;
+}
+
+// Local frame at the nearest base vertex (no base triangle fits).
+void MultiresSolver::encode_in_frame(int i, const Vec3& x, int start, const LocalAdjacency& adjacency) {
+  using Step = LocalAdjacency::Step;
+  const auto around = [&](int l) { return adjacency.around(l); };
+  const double* B = base_.data();
+  const double* N = normal_.data();
+  Code& code = codes_[static_cast<std::size_t>(i)];
+  const Vec3 pa = Map3(B + 3 * start), n = Map3(N + 3 * start);
+  int nbr = -1;
+  double best_len = 0.0;
+  for (const Step& out : around(start)) {
+    const int l = out.to;
+    Vec3 e = Map3(B + 3 * l) - pa;
+    const double len = (e - e.dot(n) * n).norm();
+    if (len > best_len * (1.0 + 1e-12)) {
+      best_len = len;
+      nbr = l;
+    }
+  }
+  const Vec3 d = x - pa;
+  code.corner = {start, -1, -1};
+  code.w = {d[0], d[1], d[2]};
+  code.h = 0.0;
+  if (nbr >= 0 && n.squaredNorm() > 0.5) {
+    Vec3 e = Map3(B + 3 * nbr) - pa;
+    e = (e - e.dot(n) * n).normalized();
+    const Vec3 b = n.cross(e);
+    code.corner[1] = nbr;
+    code.w = {d.dot(e), d.dot(b), d.dot(n)};
+  }
+}
+
+void MultiresSolver::count_codes() {
   for (std::size_t i = 0; i < codes_.size(); ++i) {
     const Code& c = codes_[i];
     if (vertex_frames_) {
@@ -335,16 +407,10 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
     }
   }
   stats_.free = n_free_;
-  if (!vertex_frames_) {  // per frame, normals are needed at the corners of the encodings only
-    std::vector<char> used(static_cast<std::size_t>(n_local), 0);
-    for (const Code& c : codes_) {
-      used[static_cast<std::size_t>(c.corner[0])] = 1;
-      if (c.corner[2] >= 0) used[static_cast<std::size_t>(c.corner[1])] = used[static_cast<std::size_t>(c.corner[2])] = 1;
-    }
-    set_normal_vertices(used);
-  }
+}
 
-  // Rest orientation of the detail triangles against their base triangles.
+// Rest orientation of the detail triangles against their base triangles.
+void MultiresSolver::set_detail_rest_signs(const Mesh& mesh) {
   detail_rest_sign_.resize(detail_faces_.size());
   for (std::size_t k = 0; k < detail_faces_.size(); ++k) {
     const Vec3 p0 = mesh.position(Vertex(detail_face_global_[3 * k]));
@@ -356,15 +422,6 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
     const double c = dn.dot(bn), scale = dn.norm() * bn.norm();
     detail_rest_sign_[k] = c > kFacingCosine * scale ? 1 : (c < -kFacingCosine * scale ? -1 : 0);
   }
-  if (options.nonlinear) {  // the nonlinear base keeps the smooth rest base
-    VertexData<Vec3> rest_base = mesh.positions();
-    for (int i = 0; i < n_free_; ++i) rest_base[free[static_cast<std::size_t>(i)]] = base_.row(i).transpose();
-    NonlinearOptions on_base = *options.nonlinear;
-    on_base.smooth_rest = true;
-    nonlinear_ = std::make_unique<NonlinearSolver>(mesh, regions, bcm_, rest_base, on_base);
-  }
-  stats_.decomposition_ms = ms_since(t0) + shape.ms;
-  progress.step("detail", 1.0);
 }
 
 std::vector<bool> MultiresSolver::fallback_mask() const {
@@ -374,7 +431,7 @@ std::vector<bool> MultiresSolver::fallback_mask() const {
 }
 
 void MultiresSolver::encode_vertex_frames(const Mesh& mesh, const VertexData<int>& local,
-                                          const std::function<void(const std::vector<char>&)>& set_normal_vertices) {
+                                          const FaceData<int>& local_face) {
   // Per free vertex: its ring (local vertices) for the tangent; normals at the free vertices.
   ring_offset_.assign(1, 0);
   ring_.clear();
@@ -385,7 +442,7 @@ void MultiresSolver::encode_vertex_frames(const Mesh& mesh, const VertexData<int
   }
   std::vector<char> free_only(local_global_.size(), 0);
   std::fill(free_only.begin(), free_only.begin() + n_free_, 1);
-  set_normal_vertices(free_only);
+  select_normal_vertices(mesh, local_face, free_only);
   update_normals();  // the per-frame normals, here at rest
   ring_weight_.resize(2 * ring_.size());
   const double* B = base_.data();

@@ -195,8 +195,21 @@ class MultiresSolver {
   void add_detail(VertexData<Vec3>& positions) const;  // the free vertices by encoding, then the handles
   int add_displaced_detail(Vec3* out) const;          // normal displacement / local frames; returns flattened
   void add_vertex_frame_detail(Vec3* out) const;
-  void encode_vertex_frames(const Mesh& mesh, const VertexData<int>& local,
-                            const std::function<void(const std::vector<char>&)>& set_normal_vertices);
+  // The constructor's phases (multires_solver.cpp).
+  struct LocalAdjacency;
+  void build_local(const Mesh& mesh, const Regions& regions, const VertexData<int>& dist, int normal_rings,
+                   VertexData<int>& local, FaceData<int>& local_face);
+  void select_normal_vertices(const Mesh& mesh, const FaceData<int>& local_face, const std::vector<char>& wanted);
+  void encode_vertex_frames(const Mesh& mesh, const VertexData<int>& local, const FaceData<int>& local_face);
+  struct EncodeScratch;
+  void encode_displaced(const Mesh& mesh, const LocalAdjacency& adjacency, bool normal_encoding,
+                        const MultiresOptions& options, const Progress& progress);
+  int nearest_base_vertex(int i, const Vec3& x, const LocalAdjacency& adjacency) const;
+  bool encode_on_faces(int i, const Vec3& x, int start, const LocalAdjacency& adjacency,
+                       const MultiresOptions& options, EncodeScratch& scratch);
+  void encode_in_frame(int i, const Vec3& x, int start, const LocalAdjacency& adjacency);
+  void count_codes();
+  void set_detail_rest_signs(const Mesh& mesh);
   // The tangent of free vertex i's frame on the current base (inlined into the per-frame loop).
   [[gnu::always_inline]] inline Vec3 frame_tangent(int i, const Vec3& n) const;
   // Rebuilds free vertex i with its height lowered by multires::safe_height; 1 if it was lowered.

@@ -60,25 +60,11 @@ std::array<double, 2> equalize_axes(const Mesh& patch, std::vector<Vec2>& uv) {
   return {x1, x2};
 }
 
-}  // namespace
-
-AnisotropicDomain anisotropic_domain(const Mesh& mesh, std::span<const Vertex> support, int k) {
-  const auto t0 = std::chrono::steady_clock::now();
-  if (k < 1) throw InvalidInput("anisotropic domain: order k = " + std::to_string(k) + " must be at least 1");
-  for (Vertex v : support)
-    if (!v.is_valid() || v.idx() >= mesh.n_vertices())
-      throw InvalidInput("anisotropic domain: support vertex " + std::to_string(v.idx()) + " is not in the mesh");
-  AnisotropicDomain out;
-  const auto finish = [&]() -> AnisotropicDomain {
-    out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (!out.used) out.positions = VertexData<Vec3>();
-    return std::move(out);
-  };
-
-  // The patch: vertices within k rings of the support, faces with all three corners in it.
+// The patch: vertices within k rings of the support, faces with all three corners in it;
+// global[i] is the mesh vertex of patch vertex i.
+TriangleSoup grown_support(const Mesh& mesh, std::span<const Vertex> support, int k, std::vector<Vertex>& global) {
   const VertexData<int> dist = ring_distance(mesh, support, k);
   std::vector<int> local(static_cast<std::size_t>(mesh.n_vertices()), -1);
-  std::vector<Vertex> global;
   TriangleSoup soup;
   for (Face f : mesh.faces()) {
     const auto v = mesh.vertices(f);
@@ -95,6 +81,48 @@ AnisotropicDomain anisotropic_domain(const Mesh& mesh, std::span<const Vertex> s
     }
     soup.faces.push_back(t);
   }
+  return soup;
+}
+
+// The faces of component c of the patch as a soup; back[i] is the patch vertex of its vertex i.
+TriangleSoup component_soup(const Mesh& patch, const Components& comp, int c, std::vector<int>& back) {
+  TriangleSoup part;
+  std::vector<int> sub(static_cast<std::size_t>(patch.n_vertices()), -1);
+  for (Face f : patch.faces()) {
+    if (comp.face_component[f] != c) continue;
+    const auto v = patch.vertices(f);
+    Tri t{};
+    for (std::size_t i = 0; i < 3; ++i) {
+      int& l = sub[static_cast<std::size_t>(v[i].idx())];
+      if (l < 0) {
+        l = static_cast<int>(back.size());
+        back.push_back(v[i].idx());
+        part.positions.push_back(patch.position(v[i]));
+      }
+      t[i] = l;
+    }
+    part.faces.push_back(t);
+  }
+  return part;
+}
+
+}  // namespace
+
+AnisotropicDomain anisotropic_domain(const Mesh& mesh, std::span<const Vertex> support, int k) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (k < 1) throw InvalidInput("anisotropic domain: order k = " + std::to_string(k) + " must be at least 1");
+  for (Vertex v : support)
+    if (!v.is_valid() || v.idx() >= mesh.n_vertices())
+      throw InvalidInput("anisotropic domain: support vertex " + std::to_string(v.idx()) + " is not in the mesh");
+  AnisotropicDomain out;
+  const auto finish = [&]() -> AnisotropicDomain {
+    out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (!out.used) out.positions = VertexData<Vec3>();
+    return std::move(out);
+  };
+
+  std::vector<Vertex> global;
+  const TriangleSoup soup = grown_support(mesh, support, k, global);
   out.patch_vertices = static_cast<int>(global.size());
   out.patch_faces = static_cast<int>(soup.faces.size());
   if (soup.faces.empty()) {
@@ -125,24 +153,8 @@ AnisotropicDomain anisotropic_domain(const Mesh& mesh, std::span<const Vertex> s
   out.positions = mesh.positions();
   double largest = -1.0;
   for (int c = 0; c < comp.count; ++c) {
-    TriangleSoup part;
-    std::vector<int> sub(static_cast<std::size_t>(patch.n_vertices()), -1);
     std::vector<int> back;
-    for (Face f : patch.faces()) {
-      if (comp.face_component[f] != c) continue;
-      const auto v = patch.vertices(f);
-      Tri t{};
-      for (std::size_t i = 0; i < 3; ++i) {
-        int& l = sub[static_cast<std::size_t>(v[i].idx())];
-        if (l < 0) {
-          l = static_cast<int>(back.size());
-          back.push_back(v[i].idx());
-          part.positions.push_back(patch.position(v[i]));
-        }
-        t[i] = l;
-      }
-      part.faces.push_back(t);
-    }
+    const TriangleSoup part = component_soup(patch, comp, c, back);
     if (part.faces.empty()) continue;
     const Mesh piece = Mesh::from_soup(part);
     if (boundary_loops(piece).empty()) {
