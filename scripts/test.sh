@@ -9,6 +9,7 @@ cd "$root"
 # ccache (installed by bootstrap.sh): paths relative to the clone, so another clone reuses the objects.
 export CCACHE_BASEDIR="$root" CCACHE_NOHASHDIR=1
 scripts/bootstrap.sh
+scripts/check-code-shape.py
 scripts/fetch-data.sh
 export FREEFORM_REQUIRE_DATA=1
 cmake --preset release
