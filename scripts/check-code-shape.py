@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Checks that scripts/test.sh runs before building (docs/architecture.md, "Code shape"):
-no function in src/ or python/src/ longer than 100 lines (a definition starting in column 0
+no function in src/, apps/ or python/src/ longer than 100 lines (a definition starting in column 0
 up to its closing brace in column 0), and no reference to files outside the repository
 (the ../shared/ design notes). Prints each offence; exit status 1 if any."""
 import pathlib
@@ -40,7 +40,7 @@ def outside_references(path):
 
 def main():
     problems = []
-    for folder in ("src", "python/src"):
+    for folder in ("src", "apps", "python/src"):
         for path in sorted((ROOT / folder).rglob("*.cpp")):
             problems += long_functions(path)
     for pattern in ("*.md", "*.h", "*.cpp", "*.py"):

@@ -45,6 +45,33 @@ double peak_memory_mb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
 }
 
+// What was written and how the models went (stdout); the warnings go to stderr (edit_warnings).
+void print_summary(const DeformOptions& opt, const ReadResult& read, const Edit& edit, const EditSolver& solver,
+                   double evaluate_ms, double reconstruct_ms) {
+  const Regions& regions = solver.regions();
+  const BcmStats& st = solver.stats().bcm;
+  const std::optional<MultiresStats>& ms = solver.stats().multires;
+  fmt::print("wrote {} ({} vertices, {} faces): order {}, {} free, {} fixed, {} handles; solver {}, evaluate {:.3f} ms\n",
+             opt.out, read.soup.positions.size(), read.soup.faces.size(), edit.settings.order, regions.n_free(), regions.n_fixed(),
+             regions.handles().size(), st.solver, evaluate_ms);
+  if (const NonlinearState* ns = solver.nonlinear_state())
+    fmt::print("nonlinear: {} iterations, residual {:.2g}, {:.1f} ms\n", ns->iterations, ns->step, ns->ms);
+  if (st.anisotropic)
+    fmt::print("anisotropic bending: principal extents {:.4g} x {:.4g} equalized (parametrization {:.1f} ms)\n",
+               st.principal_extents[0], st.principal_extents[1], st.parametrization_ms);
+  if (ms && ms->detail_by_model) {
+    fmt::print("multiresolution: {}\n", ms->operator_fallback);
+  } else if (ms) {
+    if (ms->vertex_frames > 0)
+      fmt::print("multiresolution: decomposition {:.1f} ms, reconstruct {:.3f} ms; {} vertices in vertex frames\n",
+                 ms->decomposition_ms, reconstruct_ms, ms->vertex_frames);
+    else
+      fmt::print("multiresolution: decomposition {:.1f} ms, reconstruct {:.3f} ms; {} normal-encoded, {} fallback vertices\n",
+                 ms->decomposition_ms, reconstruct_ms, ms->normal_encoded, ms->fallback);
+    if (!ms->operator_fallback.empty()) fmt::print("multiresolution: {}\n", ms->operator_fallback);
+  }
+}
+
 void run(const DeformOptions& opt) {
   if (same_file(opt.in, opt.out) && !opt.overwrite_input)
     throw InvalidInput("output " + opt.out + " is the input file; pass --overwrite-input to replace it");
@@ -119,60 +146,9 @@ void run(const DeformOptions& opt) {
   } catch (const Error& e) {
     throw OutputError(e.what());
   }
-  const Regions& regions = solver.regions();
-  const BcmStats& st = solver.stats().bcm;
-  const std::optional<MultiresStats>& ms = solver.stats().multires;
-  fmt::print("wrote {} ({} vertices, {} faces): order {}, {} free, {} fixed, {} handles; solver {}, evaluate {:.3f} ms\n",
-             opt.out, read.soup.positions.size(), read.soup.faces.size(), edit.settings.order, regions.n_free(), regions.n_fixed(),
-             regions.handles().size(), st.solver, evaluate_ms);
-  if (const NonlinearState* ns = solver.nonlinear_state()) {
-    fmt::print("nonlinear: {} iterations, residual {:.2g}, {:.1f} ms\n", ns->iterations, ns->step, ns->ms);
-    if (!ns->converged)
-      fmt::print(stderr,
-                 "warning: the nonlinear model stopped at its cap of {} iterations before converging (residual {:.2g} > "
-                 "tolerance {:.2g}); raise \"nonlinear\": {{\"max_iterations\"}} in the edit file\n",
-                 ns->iterations, ns->step, edit.nonlinear.tolerance);
-  }
-  if (st.forward_error > kForwardErrorWarning)
-    fmt::print(stderr,
-               "warning: the solve's estimated error is {:.2g} of the bounding-box diagonal (refinement: {} steps, {}); "
-               "the support is too large for an accurate order-{} solve: use a smaller support or a lower order\n",
-               st.forward_error, st.refinement_steps, st.refinement_converged ? "converged" : "did not converge",
-               edit.settings.order);
-  if (st.degenerate_faces > 0 || st.clamped_cotangents > 0)
-    fmt::print(stderr,
-               "warning: {} degenerate triangles (no stiffness) and {} clamped cotangents (needle-thin triangles) in "
-               "the support's operator\n",
-               st.degenerate_faces, st.clamped_cotangents);
-  if (solver.stats().isolated_ignored > 0)
-    fmt::print(stderr, "warning: {} support vertices belong to no triangle (isolated): they were left where they are\n",
-               solver.stats().isolated_ignored);
-  if (st.anisotropic)
-    fmt::print("anisotropic bending: principal extents {:.4g} x {:.4g} equalized (parametrization {:.1f} ms)\n",
-               st.principal_extents[0], st.principal_extents[1], st.parametrization_ms);
-  else if (!st.anisotropic_fallback.empty())
-    fmt::print(stderr, "warning: anisotropic bending fell back to the isotropic operator: {}\n", st.anisotropic_fallback);
-  if (problems.folded_edges > 0)
-    fmt::print(stderr, "warning: {} folded edges (dihedral angle grew by more than {:g} degrees)\n", problems.folded_edges,
-               kFoldDegrees);
-  if (ms && ms->detail_by_model) {
-    fmt::print("multiresolution: {}\n", ms->operator_fallback);
-  } else if (ms) {
-    if (ms->vertex_frames > 0)
-      fmt::print("multiresolution: decomposition {:.1f} ms, reconstruct {:.3f} ms; {} vertices in vertex frames\n",
-                 ms->decomposition_ms, reconstruct_ms, ms->vertex_frames);
-    else
-      fmt::print("multiresolution: decomposition {:.1f} ms, reconstruct {:.3f} ms; {} normal-encoded, {} fallback vertices\n",
-                 ms->decomposition_ms, reconstruct_ms, ms->normal_encoded, ms->fallback);
-    if (problems.detail.overlaps > 0)
-      fmt::print(stderr,
-                 "warning: the bend is tighter than the detail is tall at {} vertices: their detail was flattened there "
-                 "to keep it from folding over\n",
-                 problems.detail.overlaps);
-    if (problems.detail.flipped > 0)
-      fmt::print(stderr, "warning: {} detail triangles flipped against their base\n", problems.detail.flipped);
-    if (!ms->operator_fallback.empty()) fmt::print("multiresolution: {}\n", ms->operator_fallback);
-  }
+  print_summary(opt, read, edit, solver, evaluate_ms, reconstruct_ms);
+  for (const std::string& w : edit_warnings(solver, problems, solver.nonlinear_state()))
+    fmt::print(stderr, "warning: {}\n", w);
   if (!opt.report.empty()) fmt::print("wrote {}\n", opt.report);
 }
 

@@ -64,6 +64,29 @@ vw::BoundingBox merge(const vw::BoundingBox& a, const vw::BoundingBox& b) {
   return {a.min.cwiseMin(b.min), a.max.cwiseMax(b.max)};
 }
 
+// The edit's regions coloured on the scene (and its smoothness band), the scene deformed if
+// asked, the frame grown to hold both shapes; returns the order of the smoothness legend to
+// draw (0: none).
+int show_edit(const RenderOptions& opt, const Mesh& mesh, vw::RenderScene& scene, vw::BoundingBox& frame) {
+  int legend_order = 0;
+  const Edit edit = read_edit_file(opt.edit, mesh);
+  const Regions regions = edit_regions(mesh, edit);
+  std::vector<vw::Rgb> colors = vw::region_colors(regions);
+  const bool band = opt.band == "on" || (opt.band == "auto" && !edit.settings.smoothness.segments.empty());
+  if (band && edit.settings.order > 1) {
+    vw::color_smoothness_band(colors, smoothness_band(mesh, regions, edit.settings.order),
+                              smoothness_per_vertex(regions, edit.settings));
+    legend_order = edit.settings.order;
+  }
+  vw::set_colors(scene, colors);
+  const Mesh deformed = deform(mesh, edit);  // throws on a non-finite result
+  vw::RenderScene moved = scene;
+  vw::update_geometry(moved, deformed.positions());
+  frame = merge(frame, moved.bounds);
+  if (opt.show == "deformed") scene = std::move(moved);
+  return legend_order;
+}
+
 void run(const RenderOptions& opt) {
   // Command-line checks first (exit code 2), then inputs (1), then rendering and output (3).
   const auto [width, height] = parse_size(opt.size);
@@ -82,23 +105,7 @@ void run(const RenderOptions& opt) {
   const Mesh mesh = Mesh::from_soup(read.soup);
   vw::RenderScene scene = vw::make_scene(mesh, vw::kPlainColor, /*recentre=*/true);
   vw::BoundingBox frame = scene.bounds;  // fitted to original and deformed: both renders align
-  int legend_order = 0;  // draw the smoothness legend for this order (0: none)
-  if (!opt.edit.empty()) {
-    const Edit edit = read_edit_file(opt.edit, mesh);
-    const Regions regions = edit_regions(mesh, edit);
-    std::vector<vw::Rgb> colors = vw::region_colors(regions);
-    const bool band = opt.band == "on" || (opt.band == "auto" && !edit.settings.smoothness.segments.empty());
-    if (band && edit.settings.order > 1) {
-      vw::color_smoothness_band(colors, smoothness_band(mesh, regions, edit.settings.order), regions, edit.settings);
-      legend_order = edit.settings.order;
-    }
-    vw::set_colors(scene, colors);
-    const Mesh deformed = deform(mesh, edit);  // throws on a non-finite result
-    vw::RenderScene moved = scene;
-    vw::update_geometry(moved, deformed.positions());
-    frame = merge(frame, moved.bounds);
-    if (opt.show == "deformed") scene = std::move(moved);
-  }
+  const int legend_order = opt.edit.empty() ? 0 : show_edit(opt, mesh, scene, frame);
 
   const double aspect = static_cast<double>(width) / height;
   vw::Camera camera = vw::fit_view(frame, *preset, aspect, 1.08, opt.up == "y" ? vw::UpAxis::Y : vw::UpAxis::Z);

@@ -5,6 +5,7 @@
 // the active handle brighter; the smoothness band by c, the active segment brighter).
 #include "app.h"
 
+#include "freeform/bcm/boundary_band.h"
 #include "viewer/region_colors.h"
 
 #include <GLFW/glfw3.h>
@@ -68,7 +69,7 @@ void App::recolor() {
   }
   if (shown_band_ && doc_.regions_problem().empty()) {
     const Mesh& rest = doc_.rest_mesh();
-    viewer::color_smoothness_band(colors, doc_.smoothness_band(), st.regions(rest), st.settings());
+    viewer::color_smoothness_band(colors, doc_.smoothness_band(), smoothness_per_vertex(st.regions(rest), st.settings()));
     const int seg = doc_.active_segment();  // the segment being edited stands out
     if (seg >= 0)
       for (Vertex v : st.parameters().segments[static_cast<std::size_t>(seg)].vertices)

@@ -2,6 +2,7 @@
 // every change goes to the Document / ToolController / camera at once.
 #include "app.h"
 
+#include "freeform/edit/edit_report.h"
 #include "viewer/region_colors.h"
 
 #include <GLFW/glfw3.h>
@@ -271,10 +272,11 @@ void App::panel_parameters() {
       // a drag (O(support) per check), the last count stays.
       if (!tools_.transforming()) shown_problems_ = doc_.display_problems();
       if (shown_problems_) problems_line(*shown_problems_);
-      if (const BcmStats& bcm = doc_.solver()->solver().stats().bcm; bcm.forward_error > kForwardErrorWarning) {
+      // The precompute's warnings (an inaccurate solve, degenerate triangles, the anisotropic
+      // fallback...); the frame's folds and flattened detail are in the problems line above.
+      for (const std::string& w : edit_warnings(doc_.solver()->solver())) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.65f, 0.3f, 1.0f));
-        ImGui::TextWrapped("inaccurate solve: estimated error %.1e of the mesh's size; use a smaller support or a lower order",
-                           bcm.forward_error);
+        ImGui::TextWrapped("%s", w.c_str());
         ImGui::PopStyleColor();
       }
       if (doc_.solver()->solver().stats().deformation == Deformation::Nonlinear) {

@@ -1,7 +1,5 @@
 #include "viewer/region_colors.h"
 
-#include "freeform/bcm/boundary_band.h"
-
 #include <algorithm>
 
 namespace freeform::viewer {
@@ -32,11 +30,9 @@ Rgb smoothness_color(double c) {
   return out;
 }
 
-void color_smoothness_band(std::vector<Rgb>& colors, std::span<const Vertex> band, const Regions& regions,
-                           const BcmSettings& settings) {
-  const std::vector<double> c = smoothness_per_vertex(regions, settings);
+void color_smoothness_band(std::vector<Rgb>& colors, std::span<const Vertex> band, std::span<const double> smoothness) {
   for (Vertex v : band)
-    colors[static_cast<std::size_t>(v.idx())] = smoothness_color(c[static_cast<std::size_t>(v.idx())]);
+    colors[static_cast<std::size_t>(v.idx())] = smoothness_color(smoothness[static_cast<std::size_t>(v.idx())]);
 }
 
 }  // namespace freeform::viewer

@@ -4,7 +4,6 @@
 
 #include "viewer/render_scene.h"
 
-#include "freeform/bcm/settings.h"
 #include "freeform/regions/regions.h"
 
 #include <span>
@@ -29,9 +28,9 @@ std::vector<Rgb> region_colors(const Regions& regions, const RegionPalette& pale
 // violet at C2, linear in between (c is clamped to [0, 2]).
 Rgb smoothness_color(double c);
 
-// Recolours the smoothness band (bcm/boundary_band.h: where c acts, as smoothness_band gives
-// it) by smoothness_color of each band vertex's c; `colors` has one entry per vertex.
-void color_smoothness_band(std::vector<Rgb>& colors, std::span<const Vertex> band, const Regions& regions,
-                           const BcmSettings& settings);
+// Recolours the smoothness band (where c acts, as bcm/boundary_band.h's smoothness_band gives
+// it) by smoothness_color of each band vertex's c (`smoothness`: one c per vertex, e.g.
+// smoothness_per_vertex); `colors` has one entry per vertex.
+void color_smoothness_band(std::vector<Rgb>& colors, std::span<const Vertex> band, std::span<const double> smoothness);
 
 }  // namespace freeform::viewer

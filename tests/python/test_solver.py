@@ -71,8 +71,13 @@ def test_stats_and_problems(solver):
     assert 0 <= stats["forward_error"] < 1e-12
     assert solver.problems() == {"ok": True, "non_finite": 0, "first_non_finite": None, "folded_edges": 0,
                                  "flipped_triangles": 0, "overlaps": 0}
+    assert stats["warnings"] == [] and stats["precompute"]["wall_ms"] > 0
+    assert [p["name"] for p in stats["precompute"]["phases"]][-4:] == ["factorization", "basis", "refinement",
+                                                                       "model_setup"]
     solver.evaluate([translation(0, 0, 2.0)])  # pulled far out of the plane: the frame folds
     assert solver.problems()["folded_edges"] > 0 and solver.stats["folded_edges"] > 0
+    # The same sentences `freeform deform` prints (edit_warnings).
+    assert any("folded edges" in w for w in solver.stats["warnings"])
 
 
 def test_progress_reports_stages(plane, plane_edit):

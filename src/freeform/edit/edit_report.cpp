@@ -1,11 +1,14 @@
 #include "freeform/edit/edit_report.h"
 
 #include "freeform/common/parallel.h"
+#include "freeform/mesh/folds.h"
+
+#include <fmt/format.h>
 
 namespace freeform {
 
 Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditProblems& problems,
-                 const NonlinearState* state) {
+                 const NonlinearState* nonlinear_state) {
   const Regions& regions = solver.regions();
   const BcmSettings& settings = solver.settings();
   const BcmStats& st = solver.stats().bcm;
@@ -27,7 +30,7 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
                 {"flipped_triangles", problems.detail.flipped},
                 {"overlaps", problems.detail.overlaps}};
   Json nonlinear = nullptr;
-  if (const NonlinearState* ns = solver.nonlinear_state() && state ? state : solver.nonlinear_state())
+  if (const NonlinearState* ns = solver.nonlinear_state() && nonlinear_state ? nonlinear_state : solver.nonlinear_state())
     nonlinear = {{"iterations", ns->iterations},
                  {"residual", ns->step},
                  {"converged", ns->converged},
@@ -79,7 +82,44 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
         {"parametrization_ms", st.parametrization_ms}}},
       {"multiresolution", std::move(multires)},
       {"nonlinear", std::move(nonlinear)},
+      {"warnings", edit_warnings(solver, problems, nonlinear_state ? nonlinear_state : solver.nonlinear_state())},
   };
+}
+
+std::vector<std::string> edit_warnings(const EditSolver& solver, const EditProblems& problems,
+                                       const NonlinearState* nonlinear) {
+  std::vector<std::string> out;
+  const BcmStats& st = solver.stats().bcm;
+  const NonlinearState* ns = nonlinear;
+  if (ns && !ns->converged && ns->iterations > 0 && solver.nonlinear_options())
+    out.push_back(fmt::format("the nonlinear model stopped at its cap of {} iterations before converging (residual "
+                              "{:.2g} > tolerance {:.2g}); raise \"nonlinear\": {{\"max_iterations\"}} in the edit file",
+                              ns->iterations, ns->step, solver.nonlinear_options()->tolerance));
+  if (st.forward_error > kForwardErrorWarning)
+    out.push_back(fmt::format("the solve's estimated error is {:.2g} of the bounding-box diagonal (refinement: {} "
+                              "steps, {}); the support is too large for an accurate order-{} solve: use a smaller "
+                              "support or a lower order",
+                              st.forward_error, st.refinement_steps,
+                              st.refinement_converged ? "converged" : "did not converge", solver.settings().order));
+  if (st.degenerate_faces > 0 || st.clamped_cotangents > 0)
+    out.push_back(fmt::format("{} degenerate triangles (no stiffness) and {} clamped cotangents (needle-thin "
+                              "triangles) in the support's operator",
+                              st.degenerate_faces, st.clamped_cotangents));
+  if (solver.stats().isolated_ignored > 0)
+    out.push_back(fmt::format("{} support vertices belong to no triangle (isolated): they were left where they are",
+                              solver.stats().isolated_ignored));
+  if (!st.anisotropic && !st.anisotropic_fallback.empty())
+    out.push_back("anisotropic bending fell back to the isotropic operator: " + st.anisotropic_fallback);
+  if (problems.folded_edges > 0)
+    out.push_back(fmt::format("{} folded edges (dihedral angle grew by more than {:g} degrees)", problems.folded_edges,
+                              kFoldDegrees));
+  if (problems.detail.overlaps > 0)
+    out.push_back(fmt::format("the bend is tighter than the detail is tall at {} vertices: their detail was flattened "
+                              "there to keep it from folding over",
+                              problems.detail.overlaps));
+  if (problems.detail.flipped > 0)
+    out.push_back(fmt::format("{} detail triangles flipped against their base", problems.detail.flipped));
+  return out;
 }
 
 }  // namespace freeform

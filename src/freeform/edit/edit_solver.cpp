@@ -155,6 +155,8 @@ std::vector<Eigen::Affine3d> EditSolver::transforms(const Edit& edit) const {
 
 NonlinearSolver* EditSolver::nonlinear() const { return multires_ ? multires_->nonlinear() : nonlinear_.get(); }
 
+const NonlinearOptions* EditSolver::nonlinear_options() const { return nonlinear() ? &nonlinear()->options() : nullptr; }
+
 const NonlinearState* EditSolver::nonlinear_state() const { return nonlinear() ? &nonlinear()->state() : nullptr; }
 
 void EditSolver::write_nonlinear(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {

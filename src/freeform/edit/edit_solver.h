@@ -80,6 +80,8 @@ class EditSolver {
   const EditTimings& last_timings() const { return timings_; }
   // The nonlinear model's iterations of the last frame (null for the linear model).
   const NonlinearState* nonlinear_state() const;
+  // The nonlinear model's options (null for the linear model).
+  const NonlinearOptions* nonlinear_options() const;
 
   // A drag (the editor): the nonlinear model starts from the previous frame's solution and
   // iterates for at most budget_ms, refine() continues where it stopped; both write the
