@@ -5,7 +5,7 @@
 #pragma once
 
 #include "freeform/edit/edit.h"
-#include "freeform/bcm/manipulator.h"
+#include "freeform/edit/manipulator.h"
 #include "freeform/mesh/mesh.h"
 #include "freeform/regions/regions.h"
 

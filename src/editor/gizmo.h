@@ -14,7 +14,7 @@
 #include "editor/modal_transform.h"
 #include "editor/screen.h"
 
-#include "freeform/bcm/manipulator.h"
+#include "freeform/edit/manipulator.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

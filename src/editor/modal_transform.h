@@ -38,7 +38,7 @@
 
 #include "editor/screen.h"
 
-#include "freeform/bcm/manipulator.h"
+#include "freeform/edit/manipulator.h"
 
 #include <Eigen/Core>
 

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "freeform/bcm/bcm_solver.h"
-#include "freeform/bcm/manipulator.h"
+#include "freeform/edit/manipulator.h"
 #include "freeform/mesh/generators.h"
 #include "freeform/operators/operators.h"
 

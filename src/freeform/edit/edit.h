@@ -3,7 +3,7 @@
 // writes it; EditSolver (edit_solver.h) precomputes it.
 #pragma once
 
-#include "freeform/bcm/manipulator.h"
+#include "freeform/edit/manipulator.h"
 #include "freeform/bcm/settings.h"
 #include "freeform/mesh/mesh.h"
 #include "freeform/nonlinear/nonlinear_solver.h"

@@ -23,7 +23,7 @@ std::vector<int> parse_sel(std::string_view data, const std::string& name, int n
 std::vector<int> read_sel_file(const std::string& path, int n_vertices);
 
 // The 4x4 matrix as written (no validity check of the transform itself; see
-// affine_from_matrix in bcm/manipulator.h).
+// affine_from_matrix in edit/manipulator.h).
 Eigen::Matrix4d parse_def(std::string_view data, const std::string& name);
 Eigen::Matrix4d read_def_file(const std::string& path);
 

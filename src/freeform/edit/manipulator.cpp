@@ -1,5 +1,5 @@
 // 9-dof manipulators and checked affine maps (docs/bcm.md).
-#include "freeform/bcm/manipulator.h"
+#include "freeform/edit/manipulator.h"
 
 #include "freeform/common/error.h"
 #include "freeform/common/json_messages.h"
