@@ -11,9 +11,7 @@
 #include <vector>
 
 using namespace freeform;
-using ::testing::ElementsAre;
 using ::testing::HasSubstr;
-using ::testing::IsEmpty;
 
 namespace {
 
@@ -37,7 +35,7 @@ TEST(EditWarnings, NoneForACleanEdit) {
   const EditSolver solver(mesh, edit);
   VertexData<Vec3> positions = mesh.positions();
   solver.evaluate(solver.transforms(edit), positions);
-  EXPECT_THAT(edit_warnings(solver, solver.problems(positions), solver.nonlinear_state()), IsEmpty());
+  EXPECT_TRUE(edit_warnings(solver, solver.problems(positions), solver.nonlinear_state()).empty());
   EXPECT_TRUE(edit_report(solver, {}, solver.problems(positions))["warnings"].empty());
 }
 
@@ -57,7 +55,7 @@ TEST(EditWarnings, ACappedNonlinearRunAndTheFrameProblemsAreNamed) {
   EXPECT_THAT(w[1], HasSubstr("3 folded edges"));
   EXPECT_THAT(w[2], HasSubstr("2 detail triangles flipped"));
   // Without a nonlinear state (the editor's panel) and frame problems: the precompute's only.
-  EXPECT_THAT(edit_warnings(solver), IsEmpty());
+  EXPECT_TRUE(edit_warnings(solver).empty());
   const Json report = edit_report(solver, {}, problems);
   ASSERT_EQ(report["warnings"].size(), 3u);
   EXPECT_EQ(report["warnings"][0].get<std::string>(), w[0]);
@@ -73,5 +71,7 @@ TEST(EditWarnings, TheAnisotropicFallbackIsNamed) {
                                     sphere, "test", ".");
   const EditSolver solver(sphere, edit);
   ASSERT_FALSE(solver.stats().bcm.anisotropic);
-  EXPECT_THAT(edit_warnings(solver), ElementsAre(HasSubstr("anisotropic bending fell back to the isotropic operator")));
+  const std::vector<std::string> w = edit_warnings(solver);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_THAT(w[0], HasSubstr("anisotropic bending fell back to the isotropic operator"));
 }

@@ -11,6 +11,7 @@
 #include <dlfcn.h>
 #include <exception>
 #include <mutex>
+#include <string_view>
 #include <system_error>
 #include <thread>
 #include <vector>
@@ -34,7 +35,7 @@ int threads_from_environment() {
     if (!value) continue;
     const int n = std::atoi(value);
     if (n <= 0) continue;
-    if (name[0] == 'F') cap_library_threads(std::min(total, n));
+    if (std::string_view(name) == "FREEFORM_THREADS") cap_library_threads(std::min(total, n));
     return std::min(total, n);
   }
   return total;

@@ -249,7 +249,7 @@ void MultiresSolver::encode_displaced(const Mesh& mesh, const LocalAdjacency& ad
                                       const MultiresOptions& options, const Progress& progress) {
   const std::vector<Vertex>& free = bcm_.free_vertices();
   const std::atomic<bool>* cancel = progress.cancel;
-#pragma omp parallel
+#pragma omp parallel num_threads(thread_budget())
   {
     EncodeScratch scratch;
     if (normal_encoding) {
@@ -676,7 +676,7 @@ MultiresProblems MultiresSolver::problems(const VertexData<Vec3>& positions) con
   const Vec3* p = positions.raw().data();
   int flipped = 0;
   const int nd = static_cast<int>(detail_faces_.size());
-#pragma omp parallel for schedule(static) reduction(+ : flipped) if (nd > kParallelRows)
+#pragma omp parallel for schedule(static) reduction(+ : flipped) if (nd > kParallelRows) num_threads(thread_budget())
   for (int k = 0; k < nd; ++k) {
     const Vec3& p0 = p[detail_face_global_[3 * static_cast<std::size_t>(k)]];
     const Vec3& p1 = p[detail_face_global_[3 * static_cast<std::size_t>(k) + 1]];
