@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -55,25 +56,26 @@ TEST(CliDeform, ReportsWallAndCpuTimePerPrecomputePhase) {
     SCOPED_TRACE(std::string("FREEFORM_THREADS=") + threads);
     if (*threads) setenv("FREEFORM_THREADS", threads, 1);
     const auto report = s.dir / "report.json";
+    const auto start = std::chrono::steady_clock::now();
     const CliRun r = freeform_cli("deform " + q(s.mesh) + " --edit " + q(s.edit(kGoodEdit)) + " -o " +
                                   q(s.dir / "out.ply") + " --report " + q(report));
+    const double process_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     unsetenv("FREEFORM_THREADS");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const auto j = nlohmann::json::parse(slurp(report))["precompute"];
+    // model_setup is the rest of the whole: negative if a phase were counted twice.
     std::vector<std::string> names;
-    double wall = 0, cpu = 0;
     for (const auto& p : j["phases"]) {
       names.push_back(p["name"]);
       EXPECT_GE(p["wall_ms"].get<double>(), 0.0) << names.back();
       EXPECT_GE(p["cpu_ms"].get<double>(), 0.0) << names.back();
-      wall += p["wall_ms"].get<double>();
-      cpu += p["cpu_ms"].get<double>();
     }
     EXPECT_EQ(names, (std::vector<std::string>{"operator_shape", "assembly", "factorization", "basis", "refinement",
                                                "model_setup"}));
-    EXPECT_NEAR(wall, j["wall_ms"].get<double>(), 1e-6 * j["wall_ms"].get<double>());
-    EXPECT_NEAR(cpu, j["cpu_ms"].get<double>(), 1e-6 * j["cpu_ms"].get<double>());
+    // Within the process's own run, measured here from outside.
     EXPECT_GT(j["wall_ms"].get<double>(), 0.0);
+    EXPECT_LT(j["wall_ms"].get<double>(), process_ms);
     EXPECT_EQ(j["analysis_ahead"]["wall_ms"], 0.0);  // below BcmAnalysis::kMinFree
     EXPECT_FALSE(j["ordering"].get<std::string>().empty());
     EXPECT_GT(j["factor_nonzeros"].get<double>(), 0.0);

@@ -29,8 +29,10 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
                 {"max_height", ms->max_height},
                 {"flipped_triangles", problems.detail.flipped},
                 {"overlaps", problems.detail.overlaps}};
+  // The state given (a DragSession's frame) if the solver has a model, else the solver's own.
+  const NonlinearState* ns = solver.nonlinear_state() && nonlinear_state ? nonlinear_state : solver.nonlinear_state();
   Json nonlinear = nullptr;
-  if (const NonlinearState* ns = solver.nonlinear_state() && nonlinear_state ? nonlinear_state : solver.nonlinear_state())
+  if (ns)
     nonlinear = {{"iterations", ns->iterations},
                  {"residual", ns->step},
                  {"converged", ns->converged},
@@ -82,7 +84,7 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
         {"parametrization_ms", st.parametrization_ms}}},
       {"multiresolution", std::move(multires)},
       {"nonlinear", std::move(nonlinear)},
-      {"warnings", edit_warnings(solver, problems, nonlinear_state ? nonlinear_state : solver.nonlinear_state())},
+      {"warnings", edit_warnings(solver, problems, ns)},
   };
 }
 
@@ -90,11 +92,10 @@ std::vector<std::string> edit_warnings(const EditSolver& solver, const EditProbl
                                        const NonlinearState* nonlinear) {
   std::vector<std::string> out;
   const BcmStats& st = solver.stats().bcm;
-  const NonlinearState* ns = nonlinear;
-  if (ns && !ns->converged && ns->iterations > 0 && solver.nonlinear_options())
+  if (nonlinear && !nonlinear->converged && nonlinear->iterations > 0 && solver.nonlinear_options())
     out.push_back(fmt::format("the nonlinear model stopped at its cap of {} iterations before converging (residual "
                               "{:.2g} > tolerance {:.2g}); raise \"nonlinear\": {{\"max_iterations\"}} in the edit file",
-                              ns->iterations, ns->step, solver.nonlinear_options()->tolerance));
+                              nonlinear->iterations, nonlinear->step, solver.nonlinear_options()->tolerance));
   if (st.forward_error > kForwardErrorWarning)
     out.push_back(fmt::format("the solve's estimated error is {:.2g} of the bounding-box diagonal (refinement: {} "
                               "steps, {}); the support is too large for an accurate order-{} solve: use a smaller "

@@ -122,6 +122,14 @@ bool order_leaf(const Eigen::SparseMatrix<double>& lower, Node& node, const std:
   return true;
 }
 
+// The CPU time of f() on the calling thread (a task's time on a core of its own).
+template <class F>
+double cpu_ms_of(const F& f) {
+  const double start = PhaseClock::thread_cpu_ms();
+  f();
+  return PhaseClock::thread_cpu_ms() - start;
+}
+
 void append_order(const Node& node, std::vector<int>& out) {
   if (!node.left) {
     out.insert(out.end(), node.order.begin(), node.order.end());
@@ -149,9 +157,8 @@ std::vector<int> nested_dissection(const Eigen::SparseMatrix<double>& lower, int
     label_nodes(splittable, label, local);
     std::vector<double> ms(splittable.size());
     run_tasks(static_cast<int>(splittable.size()), [&](int t) {
-      const double cpu0 = PhaseClock::thread_cpu_ms();
-      split(lower, *splittable[static_cast<std::size_t>(t)], label, local);
-      ms[static_cast<std::size_t>(t)] = PhaseClock::thread_cpu_ms() - cpu0;
+      const auto i = static_cast<std::size_t>(t);
+      ms[i] = cpu_ms_of([&] { split(lower, *splittable[i], label, local); });
     });
     if (times) times->split_ms.push_back(std::move(ms));
     level.clear();
@@ -171,9 +178,8 @@ std::vector<int> nested_dissection(const Eigen::SparseMatrix<double>& lower, int
   std::vector<char> ok(leaves.size(), 0);
   std::vector<double> ms(leaves.size());
   run_tasks(static_cast<int>(leaves.size()), [&](int t) {
-    const double cpu0 = PhaseClock::thread_cpu_ms();
-    ok[static_cast<std::size_t>(t)] = order_leaf(lower, *leaves[static_cast<std::size_t>(t)], label, local);
-    ms[static_cast<std::size_t>(t)] = PhaseClock::thread_cpu_ms() - cpu0;
+    const auto i = static_cast<std::size_t>(t);
+    ms[i] = cpu_ms_of([&] { ok[i] = order_leaf(lower, *leaves[i], label, local); });
   });
   if (times) times->leaf_ms = std::move(ms);
   if (std::find(ok.begin(), ok.end(), 0) != ok.end()) return {};
@@ -182,6 +188,7 @@ std::vector<int> nested_dissection(const Eigen::SparseMatrix<double>& lower, int
   append_order(root, out);
   return out;
 }
+
 double cholesky_fill(const Eigen::SparseMatrix<double>& lower, std::vector<int> perm) {
   if (lower.rows() == 0) return 0;
   SubPattern sub;

@@ -71,13 +71,17 @@ using Lu = Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>>;
 struct Cholmod : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
   bool has_factor() const { return this->m_cholmodFactor != nullptr; }
   // analyzePattern with a fill-reducing ordering computed elsewhere (CHOLMOD still postorders
-  // it by its elimination tree and finds the supernodes).
+  // it by its elimination tree and finds the supernodes). The ordering settings are restored,
+  // so that analyzePattern after a failure orders by them again.
   void analyze_given(const SpMat& lower, std::vector<int>& perm) {
     if (this->m_cholmodFactor) cholmod_free_factor(&this->m_cholmodFactor, &this->cholmod());
     cholmod_sparse a = Eigen::viewAsCholmod(lower.selfadjointView<Eigen::Lower>());
+    const int methods = this->cholmod().nmethods, method = this->cholmod().method[0].ordering;
     this->cholmod().nmethods = 1;
     this->cholmod().method[0].ordering = CHOLMOD_GIVEN;
     this->m_cholmodFactor = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &this->cholmod());
+    this->cholmod().nmethods = methods;
+    this->cholmod().method[0].ordering = method;
     this->m_isInitialized = true;
     this->m_info = Eigen::Success;
     this->m_analysisIsOk = true;
