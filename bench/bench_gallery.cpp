@@ -5,6 +5,7 @@
 // deformation gradient < 0.5), min sigma, the largest dihedral increase, the volume ratio
 // (closed meshes), iterations, converged, time. JSON on stdout, a summary table on stderr.
 //   bench_gallery [--quick] [--no-peer] [--out DIR] [--peer-iterations N] [--seed S] [--linear-multires]
+//                 [--config NAME]... [--case TEXT]
 // --out writes each case's rest and deformed meshes (OFF) for scripts/gallery.sh's contact sheet.
 // --linear-multires: the linear model's multiresolution instead, both encodings (vertex frames,
 // normal displacement) on the same cases with their rotations scaled to a third (edits linear
@@ -149,6 +150,7 @@ struct Options {
   unsigned seed = 37;
   bool linear_multires = false;
   std::vector<std::string> configs;  // --config NAME (repeatable): only these Freeform runs
+  std::string only;                  // --case TEXT: only the cases whose name contains it
 };
 
 Options parse(int argc, char** argv) {
@@ -173,6 +175,8 @@ Options parse(int argc, char** argv) {
       o.linear_multires = true;
     else if (a == "--config")
       o.configs.push_back(value());
+    else if (a == "--case")
+      o.only = value();
     else
       throw std::runtime_error("unknown option " + a);
   }
@@ -347,12 +351,13 @@ int main(int argc, char** argv) try {
     std::erase_if(configs, [&](const Config& c) { return std::find(o.configs.begin(), o.configs.end(), c.name) == o.configs.end(); });
   nlohmann::json out = nlohmann::json::array();
   for (const Shape& s : gallery(o)) {
+    if (s.name.find(o.only) == std::string::npos) continue;
     const bool closed = is_closed(s.mesh);
     nlohmann::json runs = nlohmann::json::array();
     VertexData<Vec3> p;
     for (const Config& c : configs) {
       runs.push_back(run_freeform(s, c, closed, p));
-      if (!o.out.empty() && c.name == "k3") write_result(o.out, s.name + "-freeform", s.mesh, p);
+      if (!o.out.empty() && (c.name == "k3" || configs.size() == 1)) write_result(o.out, s.name + "-freeform", s.mesh, p);
     }
 #ifdef FREEFORM_HAVE_CGAL
     if (o.peer) {
