@@ -207,7 +207,7 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
           {"support", doc.state().n_support()},
           {"free", doc.state().n_free()},
           {"handle", n_handle},
-          {"order", doc.parameters().order},
+          {"order", doc.parameters().settings.order},
           {"multiresolution", doc.parameters().multiresolution},
           {"deformation", nonlinear ? "nonlinear" : "linear"},
           {"precompute_ms", precompute_ms},

@@ -23,6 +23,13 @@
 namespace freeform::cli {
 namespace {
 
+// The models' names as the library spells them (edit files, reports).
+std::vector<std::string> deformation_names() {
+  std::vector<std::string> names;
+  for (Deformation d : kDeformations) names.emplace_back(deformation_name(d));
+  return names;
+}
+
 constexpr int kEvaluateRepeats = 51;  // the report's evaluate time is the median of these
 
 struct DeformOptions {
@@ -98,8 +105,7 @@ void run(const DeformOptions& opt) {
   const Mesh mesh = Mesh::from_soup(read.soup);
 
   Edit edit = opt.edit.empty() ? edit_from_sel_def(opt.sel, opt.def, opt.order, mesh) : read_edit_file(opt.edit, mesh);
-  if (!opt.deformation.empty())
-    edit.deformation = opt.deformation == "nonlinear" ? Deformation::Nonlinear : Deformation::Linear;
+  if (!opt.deformation.empty()) edit.deformation = *deformation_from_name(opt.deformation);  // checked by CLI11
   const EditSolver solver(mesh, edit);
   const std::vector<Eigen::Affine3d> transforms = solver.transforms(edit);
   VertexData<Vec3> positions = mesh.positions();
@@ -166,7 +172,7 @@ void add_deform_command(CLI::App& app) {
   cmd->add_option("-o,--output", opt->out, "Output mesh; format from the extension")->required();
   cmd->add_option("--deformation", opt->deformation,
                   "linear (the paper's BCM) or nonlinear (rotation-aware, large rotations); default: the edit's")
-      ->check(CLI::IsMember({"linear", "nonlinear"}));
+      ->check(CLI::IsMember(deformation_names()));
   cmd->add_option("--report", opt->report, "Write a JSON report (counts, solver, timings, memory)");
   cmd->add_flag("--overwrite-input", opt->overwrite_input, "Allow the output to be the input file");
   edit->excludes(sel)->excludes(def)->excludes(order);

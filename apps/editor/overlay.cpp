@@ -38,8 +38,8 @@ ImU32 mode_color(PaintMode mode, bool erase) {
 }  // namespace
 
 bool App::band_shown() const {
-  return doc_.has_mesh() && doc_.parameters().order > 1 &&
-         (tools_.options.mode == PaintMode::Boundary || !doc_.parameters().segments.empty());
+  return doc_.has_mesh() && doc_.parameters().settings.order > 1 &&
+         (tools_.options.mode == PaintMode::Boundary || !doc_.parameters().settings.smoothness.segments.empty());
 }
 
 void App::recolor() {
@@ -72,7 +72,7 @@ void App::recolor() {
     viewer::color_smoothness_band(colors, doc_.smoothness_band(), smoothness_per_vertex(st.regions(rest), st.settings()));
     const int seg = doc_.active_segment();  // the segment being edited stands out
     if (seg >= 0)
-      for (Vertex v : st.parameters().segments[static_cast<std::size_t>(seg)].vertices)
+      for (Vertex v : st.parameters().settings.smoothness.segments[static_cast<std::size_t>(seg)].vertices)
         colors[static_cast<std::size_t>(v.idx())] = brighter(colors[static_cast<std::size_t>(v.idx())], 0.35f);
   }
   viewer::set_colors(scene_, colors);

@@ -205,27 +205,27 @@ void App::panel_parameters() {
   EditParameters p = current;
   ImGui::TextUnformatted("Stiffness k");
   ImGui::SameLine();
-  ImGui::RadioButton("1 membrane", &p.order, 1);
+  ImGui::RadioButton("1 membrane", &p.settings.order, 1);
   ImGui::SameLine();
-  ImGui::RadioButton("2 thin plate", &p.order, 2);
+  ImGui::RadioButton("2 thin plate", &p.settings.order, 2);
   ImGui::SameLine();
-  ImGui::RadioButton("3", &p.order, 3);
+  ImGui::RadioButton("3", &p.settings.order, 3);
   help_marker("k = 3: minimal curvature variation");
   // Smoothness sliders edit a copy while dragged; the document gets one step on release.
   bool slider_done = false;
-  const float max_c = static_cast<float>(p.order - 1);
+  const float max_c = static_cast<float>(p.settings.order - 1);
   if (!ImGui::IsAnyItemActive()) param_edit_ = current;
-  float outer = static_cast<float>(param_edit_.outer), inner = static_cast<float>(param_edit_.inner);
-  ImGui::BeginDisabled(p.order == 1);
-  if (ImGui::SliderFloat("outer smoothness", &outer, 0.0f, max_c, "C%.2f")) param_edit_.outer = outer;
+  float outer = static_cast<float>(param_edit_.settings.smoothness.outer), inner = static_cast<float>(param_edit_.settings.smoothness.inner);
+  ImGui::BeginDisabled(p.settings.order == 1);
+  if (ImGui::SliderFloat("outer smoothness", &outer, 0.0f, max_c, "C%.2f")) param_edit_.settings.smoothness.outer = outer;
   slider_done |= ImGui::IsItemDeactivatedAfterEdit();
   help_marker("Continuity across the support's outer boundary: 0 = crease (C0) ... k-1 = smooth");
-  if (ImGui::SliderFloat("inner smoothness", &inner, 0.0f, max_c, "C%.2f")) param_edit_.inner = inner;
+  if (ImGui::SliderFloat("inner smoothness", &inner, 0.0f, max_c, "C%.2f")) param_edit_.settings.smoothness.inner = inner;
   slider_done |= ImGui::IsItemDeactivatedAfterEdit();
   help_marker("Continuity across the handle boundaries: 0 = crease (C0) ... k-1 = smooth");
   ImGui::EndDisabled();
   panel_segments();
-  ImGui::Checkbox("anisotropic", &p.anisotropic);
+  ImGui::Checkbox("anisotropic", &p.settings.anisotropic);
   help_marker("Bending that follows the support's shape (docs/anisotropic.md)");
   ImGui::SameLine();
   ImGui::Checkbox("multiresolution", &p.multiresolution);
@@ -239,8 +239,8 @@ void App::panel_parameters() {
   help_marker("Nonlinear model: keep the enclosed volume of closed meshes (a twisted bar does not neck); off for pulls that should add volume");
   ImGui::EndDisabled();
   if (slider_done) {
-    p.outer = param_edit_.outer;
-    p.inner = param_edit_.inner;
+    p.settings.smoothness.outer = param_edit_.settings.smoothness.outer;
+    p.settings.smoothness.inner = param_edit_.settings.smoothness.inner;
   }
   if (!(p == current)) attempt("parameters", [&] { doc_.set_parameters(p); });
   ImGui::EndDisabled();
@@ -293,19 +293,19 @@ void App::panel_parameters() {
 
 void App::panel_segments() {
   const EditParameters& current = doc_.parameters();
-  if (current.order == 1) return;  // a membrane is always C0
-  ImGui::Text("Boundary segments (%zu)", current.segments.size());
+  if (current.settings.order == 1) return;  // a membrane is always C0
+  ImGui::Text("Boundary segments (%zu)", current.settings.smoothness.segments.size());
   ImGui::SameLine();
   if (ImGui::SmallButton("New segment")) {
     tools_.options.mode = PaintMode::Boundary;
     attempt("new segment", [&] { doc_.set_active_segment(-1); });
   }
   help_marker("Paint a stretch of the coloured band next: it gets its own smoothness (starts at C0, a crease)");
-  if (tools_.options.mode == PaintMode::Boundary || !current.segments.empty()) {  // the legend of the band colours
+  if (tools_.options.mode == PaintMode::Boundary || !current.settings.smoothness.segments.empty()) {  // the legend of the band colours
     ImDrawList* dl = ImGui::GetWindowDrawList();
     const ImVec2 at = ImGui::GetCursorScreenPos();
     const float w = 8.0f * ImGui::GetFontSize(), h = 0.6f * ImGui::GetFontSize();
-    const int top = current.order - 1;
+    const int top = current.settings.order - 1;
     for (int i = 0; i < 64; ++i) {
       const viewer::Rgb c = viewer::smoothness_color(top * (i + 0.5) / 64.0);
       dl->AddRectFilled(ImVec2(at.x + w * i / 64.0f, at.y), ImVec2(at.x + w * (i + 1) / 64.0f + 0.5f, at.y + h),
@@ -316,23 +316,23 @@ void App::panel_segments() {
     ImGui::TextDisabled(top == 1 ? "C0 .. C1 (band colour)" : "C0 .. C1 .. C2 (band colour)");
   }
   int to_delete = -1, committed = -1;
-  const float max_c = static_cast<float>(current.order - 1);
-  for (std::size_t i = 0; i < current.segments.size() && i < param_edit_.segments.size(); ++i) {
+  const float max_c = static_cast<float>(current.settings.order - 1);
+  for (std::size_t i = 0; i < current.settings.smoothness.segments.size() && i < param_edit_.settings.smoothness.segments.size(); ++i) {
     ImGui::PushID(static_cast<int>(i));
-    const std::string label = fmt::format("{}: {} vertices", i, current.segments[i].vertices.size());
+    const std::string label = fmt::format("{}: {} vertices", i, current.settings.smoothness.segments[i].vertices.size());
     if (ImGui::Selectable(label.c_str(), static_cast<int>(i) == doc_.active_segment(), 0, ImVec2(8.0f * ImGui::GetFontSize(), 0)))
       attempt("select segment", [&] { doc_.set_active_segment(static_cast<int>(i)); });
     ImGui::SameLine();
     ImGui::SetNextItemWidth(8.0f * ImGui::GetFontSize());
-    float value = static_cast<float>(param_edit_.segments[i].value);
-    if (ImGui::SliderFloat("##c", &value, 0.0f, max_c, "C%.2f")) param_edit_.segments[i].value = value;
+    float value = static_cast<float>(param_edit_.settings.smoothness.segments[i].value);
+    if (ImGui::SliderFloat("##c", &value, 0.0f, max_c, "C%.2f")) param_edit_.settings.smoothness.segments[i].value = value;
     if (ImGui::IsItemDeactivatedAfterEdit()) committed = static_cast<int>(i);
     ImGui::SameLine();
     if (ImGui::SmallButton("delete")) to_delete = static_cast<int>(i);
     ImGui::PopID();
   }
   if (committed >= 0) {
-    const double value = param_edit_.segments[static_cast<std::size_t>(committed)].value;
+    const double value = param_edit_.settings.smoothness.segments[static_cast<std::size_t>(committed)].value;
     attempt("segment smoothness", [&] { doc_.set_segment_value(committed, value); });
   }
   if (to_delete >= 0) attempt("delete segment", [&] { doc_.delete_segment(to_delete); });

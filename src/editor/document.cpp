@@ -117,7 +117,7 @@ void Document::play_step(const Step& step, bool forward) {
 
 void Document::after_change(bool regions, bool solver) {
   if (active_ != -1 && !state_.find_handle(active_)) active_ = -1;
-  if (active_segment_ >= static_cast<int>(state_.parameters().segments.size())) active_segment_ = -1;
+  if (active_segment_ >= static_cast<int>(state_.parameters().settings.smoothness.segments.size())) active_segment_ = -1;
   if (regions) ++region_version_;
   display_stale_ = true;
   dirty_ = true;
@@ -165,14 +165,14 @@ const std::vector<Vertex>& Document::smoothness_band() {
   if (band_version_ != region_version_) {
     band_.clear();
     if (state_.problem(*rest_).empty())
-      band_ = freeform::smoothness_band(*rest_, state_.regions(*rest_), state_.parameters().order);
+      band_ = freeform::smoothness_band(*rest_, state_.regions(*rest_), state_.parameters().settings.order);
     band_version_ = region_version_;
   }
   return band_;
 }
 
 void Document::set_active_segment(int index) {
-  if (index < -1 || index >= static_cast<int>(state_.parameters().segments.size()))
+  if (index < -1 || index >= static_cast<int>(state_.parameters().settings.smoothness.segments.size()))
     throw InvalidInput("there is no smoothness segment " + std::to_string(index));
   active_segment_ = index;
 }
@@ -180,18 +180,18 @@ void Document::set_active_segment(int index) {
 void Document::set_segment_value(int index, double c) {
   require_mesh();
   EditParameters p = state_.parameters();
-  if (index < 0 || index >= static_cast<int>(p.segments.size()))
+  if (index < 0 || index >= static_cast<int>(p.settings.smoothness.segments.size()))
     throw InvalidInput("there is no smoothness segment " + std::to_string(index));
-  p.segments[static_cast<std::size_t>(index)].value = c;
+  p.settings.smoothness.segments[static_cast<std::size_t>(index)].value = c;
   set_parameters(p);
 }
 
 void Document::delete_segment(int index) {
   require_mesh();
   EditParameters p = state_.parameters();
-  if (index < 0 || index >= static_cast<int>(p.segments.size()))
+  if (index < 0 || index >= static_cast<int>(p.settings.smoothness.segments.size()))
     throw InvalidInput("there is no smoothness segment " + std::to_string(index));
-  p.segments.erase(p.segments.begin() + index);
+  p.settings.smoothness.segments.erase(p.settings.smoothness.segments.begin() + index);
   set_parameters(p);
 }
 
@@ -200,10 +200,10 @@ void Document::stroke_segment(std::span<const Vertex> vertices) {
   EditParameters p = state_.parameters();
   if (active_segment_ < 0) {
     if (s.remove) return;
-    p.segments.push_back(SmoothnessSegment{{}, 0.0});
-    active_segment_ = static_cast<int>(p.segments.size()) - 1;
+    p.settings.smoothness.segments.push_back(SmoothnessSegment{{}, 0.0});
+    active_segment_ = static_cast<int>(p.settings.smoothness.segments.size()) - 1;
   }
-  std::vector<Vertex>& seg = p.segments[static_cast<std::size_t>(active_segment_)].vertices;
+  std::vector<Vertex>& seg = p.settings.smoothness.segments[static_cast<std::size_t>(active_segment_)].vertices;
   const std::size_t before = seg.size();
   std::vector<Vertex> painted;
   for (Vertex v : vertices)
@@ -218,7 +218,7 @@ void Document::stroke_segment(std::span<const Vertex> vertices) {
     std::set_union(seg.begin(), seg.end(), painted.begin(), painted.end(), std::back_inserter(merged));
     seg = std::move(merged);
   }
-  if (seg.size() == before && active_segment_ < static_cast<int>(state_.parameters().segments.size())) return;
+  if (seg.size() == before && active_segment_ < static_cast<int>(state_.parameters().settings.smoothness.segments.size())) return;
   state_.set_parameters(p);
   ++region_version_;
 }
@@ -273,8 +273,8 @@ void Document::end_stroke() {
   if (s.mode == PaintMode::Boundary) {
     EditParameters p = state_.parameters();
     const auto active = static_cast<std::size_t>(active_segment_);
-    if (active_segment_ >= 0 && active < p.segments.size() && p.segments[active].vertices.empty()) {
-      p.segments.erase(p.segments.begin() + active_segment_);
+    if (active_segment_ >= 0 && active < p.settings.smoothness.segments.size() && p.settings.smoothness.segments[active].vertices.empty()) {
+      p.settings.smoothness.segments.erase(p.settings.smoothness.segments.begin() + active_segment_);
       active_segment_ = -1;
     }
     state_.set_parameters(p);

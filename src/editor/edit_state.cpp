@@ -20,15 +20,25 @@ Eigen::Matrix3d linear_part(const Manipulator& m) {
 
 }  // namespace
 
+EditParameters::EditParameters() {
+  settings.order = 3;
+  settings.smoothness.outer = settings.smoothness.inner = 2.0;
+}
+
 EditParameters normalized(EditParameters p) {
-  if (p.order < 1 || p.order > 3)
+  BcmSettings& b = p.settings;
+  if (b.order < 1 || b.order > 3)
     throw InvalidInput("order must be 1 (membrane), 2 (thin plate) or 3 (minimal curvature variation), got " +
-                       std::to_string(p.order));
-  if (!std::isfinite(p.outer) || !std::isfinite(p.inner)) throw InvalidInput("smoothness must be a finite number");
-  const double top = p.order - 1.0;
-  p.outer = std::clamp(p.outer, 0.0, top);
-  p.inner = std::clamp(p.inner, 0.0, top);
-  for (SmoothnessSegment& s : p.segments) {
+                       std::to_string(b.order));
+  if (!std::isfinite(b.smoothness.outer) || !std::isfinite(b.smoothness.inner))
+    throw InvalidInput("smoothness must be a finite number");
+  const double top = b.order - 1.0;
+  // The library's "default" (k - 1) written out: the panel's sliders show numbers.
+  if (b.smoothness.outer == Smoothness::kDefault) b.smoothness.outer = top;
+  if (b.smoothness.inner == Smoothness::kDefault) b.smoothness.inner = top;
+  b.smoothness.outer = std::clamp(b.smoothness.outer, 0.0, top);
+  b.smoothness.inner = std::clamp(b.smoothness.inner, 0.0, top);
+  for (SmoothnessSegment& s : b.smoothness.segments) {
     if (!std::isfinite(s.value)) throw InvalidInput("segment smoothness must be a finite number");
     s.value = std::clamp(s.value, 0.0, top);
   }
@@ -195,23 +205,9 @@ Regions EditState::regions(const Mesh& rest) const {
   return Regions(rest, support_vertices(), std::move(hs));
 }
 
-BcmSettings EditState::settings() const {
-  BcmSettings s;
-  s.order = params_.order;
-  s.smoothness.outer = params_.outer;
-  s.smoothness.inner = params_.inner;
-  s.smoothness.segments = params_.segments;
-  s.anisotropic = params_.anisotropic;
-  return s;
-}
-
 Edit EditState::to_edit(const Mesh& rest) const {
   Edit e;
-  e.settings = settings();
-  e.multiresolution = params_.multiresolution;
-  e.deformation = params_.deformation;
-  e.nonlinear = params_.nonlinear;
-  e.allow_unanchored = params_.allow_unanchored;
+  static_cast<EditSettings&>(e) = params_;
   e.support = support_vertices();
   for (const HandleState& h : handles_) {
     EditHandle eh;
@@ -223,7 +219,7 @@ Edit EditState::to_edit(const Mesh& rest) const {
   auto& segments = e.settings.smoothness.segments;
   if (!segments.empty() && problem(rest).empty()) {
     std::vector<char> in_band(static_cast<std::size_t>(n_vertices()), 0);
-    for (Vertex v : smoothness_band(rest, regions(rest), params_.order)) in_band[static_cast<std::size_t>(v.idx())] = 1;
+    for (Vertex v : smoothness_band(rest, regions(rest), params_.settings.order)) in_band[static_cast<std::size_t>(v.idx())] = 1;
     for (SmoothnessSegment& seg : segments)
       std::erase_if(seg.vertices, [&](Vertex v) { return !in_band[static_cast<std::size_t>(v.idx())]; });
     std::erase_if(segments, [](const SmoothnessSegment& seg) { return seg.vertices.empty(); });
@@ -234,17 +230,9 @@ Edit EditState::to_edit(const Mesh& rest) const {
 EditState EditState::from_edit(const Edit& edit, const Mesh& rest, int first_id) {
   EditState s(rest.n_vertices());
   EditParameters p;
-  p.order = edit.settings.order;
-  p.outer = resolved_outer(edit.settings);
-  p.inner = resolved_inner(edit.settings);
-  p.segments = edit.settings.smoothness.segments;
-  for (const SmoothnessSegment& seg : p.segments)
+  static_cast<EditSettings&>(p) = edit;
+  for (const SmoothnessSegment& seg : p.settings.smoothness.segments)
     for (Vertex v : seg.vertices) s.check_vertex(v);
-  p.anisotropic = edit.settings.anisotropic;
-  p.multiresolution = edit.multiresolution;
-  p.deformation = edit.deformation;
-  p.nonlinear = edit.nonlinear;
-  p.allow_unanchored = edit.allow_unanchored;
   s.set_parameters(p);
   for (Vertex v : edit.support) s.set_vertex(v, true, -1);
   for (std::size_t i = 0; i < edit.handles.size(); ++i) {

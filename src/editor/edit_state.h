@@ -17,20 +17,13 @@
 
 namespace freeform::editor {
 
-struct EditParameters {
-  int order = 3;               // k in {1, 2, 3}
-  double outer = 2.0;          // smoothness at the fixed side, continuous in [0, k-1]
-  double inner = 2.0;          // smoothness at the handles, [0, k-1]
-  bool anisotropic = false;
-  bool multiresolution = true;
-  // The model and all of its options as the library holds them (edit.h), so an imported edit's
-  // iterations, tolerance, volume term and allow_unanchored survive its export.
-  Deformation deformation = Deformation::Linear;
-  NonlinearOptions nonlinear;
-  bool allow_unanchored = false;
-  // Stretches of the boundary with their own smoothness (later ones win). The editor keeps
-  // the painted vertices; to_edit() drops those outside the current smoothness band.
-  std::vector<SmoothnessSegment> segments;
+// The edit's settings in the library's one form (edit.h: order, smoothness and its segments,
+// anisotropic, multiresolution, the model and its options, allow_unanchored), so whatever an
+// edit file or session holds survives the editor; with the editor's defaults (order 3, the
+// smoothness written out for the sliders). The editor keeps a segment's painted vertices;
+// to_edit() drops those outside the current smoothness band.
+struct EditParameters : EditSettings {
+  EditParameters();
   bool operator==(const EditParameters&) const = default;
 };
 
@@ -112,7 +105,7 @@ class EditState {
   // "handle 2 has no vertices: paint it or delete it", the Regions message).
   std::string problem(const Mesh& rest) const;
   Regions regions(const Mesh& rest) const;  // throws InvalidInput as Regions does
-  BcmSettings settings() const;             // order, smoothness, anisotropic
+  const BcmSettings& settings() const { return params_.settings; }  // order, smoothness, anisotropic
 
   // The edit: vertex-index selectors, handles in order, per movable handle the exact affine
   // map the editor evaluates as "matrix" (so deform() replays it bit for bit), and the

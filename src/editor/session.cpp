@@ -42,6 +42,10 @@ Json handle_json(const HandleState& h, const std::vector<Vertex>& vertices) {
   return j;
 }
 
+// Version 2 keeps the parameters with the keys of an edit file (edit_json.h); version 1 had
+// its own (read by legacy_parameters).
+constexpr int kVersion = 2;
+
 class Reader : JsonReader {
  public:
   using JsonReader::JsonReader;
@@ -50,7 +54,10 @@ class Reader : JsonReader {
     object(j, "the session");
     keys(j, "", {"version", "mesh", "applied", "current"});
     const long long version = integer(required(j, "", "version"), "version");
-    if (version != 1) fail("unsupported session \"version\" " + std::to_string(version) + " (this editor reads version 1)");
+    if (version != 1 && version != kVersion)
+      fail("unsupported session \"version\" " + std::to_string(version) + " (this editor reads versions 1 and " +
+           std::to_string(kVersion) + ")");
+    version_ = static_cast<int>(version);
     Session s;
     const Json& mesh = required(j, "", "mesh");
     object(mesh, "mesh");
@@ -72,6 +79,8 @@ class Reader : JsonReader {
   }
 
  private:
+  int version_ = kVersion;
+
   Vertex vertex(const Json& j, const std::string& path, int n) const {
     const long long v = integer(j, path);
     if (v < 0 || v >= n)
@@ -105,60 +114,70 @@ class Reader : JsonReader {
     s.current = std::move(state);
   }
 
+  // The library reads the settings (the same checks and messages as edit files); the segments
+  // keep the editor's painted vertices: {"region": {"vertices": [...]}, "value"}.
   EditParameters parameters(const Json& j, const std::string& p, int n) const {
+    if (version_ == 1) return settings_parameters(legacy_parameters(j, p), p, n);
+    return settings_parameters(j, p, n);
+  }
+
+  EditParameters settings_parameters(const Json& j, const std::string& p, int n) const {
+    EditParameters e;
+    static_cast<EditSettings&>(e) = parse_edit_settings(j, name() + ": " + p);
+    if (!j.contains("order")) e.settings.order = EditParameters().settings.order;
+    if (!j.contains("smoothness") || !j["smoothness"].contains("segments")) return e;
+    const std::string sp = at(at(p, "smoothness"), "segments");
+    const Json& list = array(j["smoothness"]["segments"], sp);
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string ip = at(sp, i);
+      object(list[i], ip);
+      keys(list[i], ip, {"region", "value"});
+      SmoothnessSegment seg;
+      seg.value = number(required(list[i], ip, "value"), at(ip, "value"));
+      if (seg.value < 0.0 || seg.value > e.settings.order - 1)
+        fail(q(at(ip, "value")) + " must be in [0, " + std::to_string(e.settings.order - 1) + "], got " + num(seg.value));
+      const Json& region = required(list[i], ip, "region");
+      object(region, at(ip, "region"));
+      keys(region, at(ip, "region"), {"vertices"});
+      const std::string vp = at(at(ip, "region"), "vertices");
+      const Json& vs = array(required(region, at(ip, "region"), "vertices"), vp);
+      for (std::size_t k = 0; k < vs.size(); ++k) seg.vertices.push_back(vertex(vs[k], at(vp, k), n));
+      std::sort(seg.vertices.begin(), seg.vertices.end());
+      seg.vertices.erase(std::unique(seg.vertices.begin(), seg.vertices.end()), seg.vertices.end());
+      e.settings.smoothness.segments.push_back(std::move(seg));
+    }
+    return e;
+  }
+
+  // Version 1's parameters in version 2's keys (checked there).
+  Json legacy_parameters(const Json& j, const std::string& p) const {
     object(j, p);
     keys(j, p, {"order", "outer", "inner", "anisotropic", "multiresolution", "nonlinear", "preserve_volume",
                 "max_iterations", "tolerance", "allow_unanchored", "segments"});
-    EditParameters e;
-    if (j.contains("order")) {
-      const long long k = integer(j["order"], at(p, "order"));
-      if (k < 1 || k > 3) fail(q(at(p, "order")) + " must be 1, 2 or 3, got " + std::to_string(k));
-      e.order = static_cast<int>(k);
-    }
-    e.outer = e.inner = e.order - 1.0;
-    for (const char* side : {"outer", "inner"}) {
-      if (!j.contains(side)) continue;
-      const double c = number(j[side], at(p, side));
-      if (c < 0.0 || c > e.order - 1)
-        fail(q(at(p, side)) + " must be in [0, " + std::to_string(e.order - 1) + "] for order " + std::to_string(e.order) +
-             ", got " + num(c));
-      (std::string(side) == "outer" ? e.outer : e.inner) = c;
-    }
-    if (j.contains("anisotropic")) e.anisotropic = boolean(j["anisotropic"], at(p, "anisotropic"));
-    if (j.contains("multiresolution")) e.multiresolution = boolean(j["multiresolution"], at(p, "multiresolution"));
-    if (j.contains("nonlinear") && boolean(j["nonlinear"], at(p, "nonlinear"))) e.deformation = Deformation::Nonlinear;
-    if (j.contains("preserve_volume"))
-      e.nonlinear.preserve_volume = boolean(j["preserve_volume"], at(p, "preserve_volume"));
-    if (j.contains("max_iterations")) {  // the ranges of edit files (edit_json.cpp)
-      const long long m = integer(j["max_iterations"], at(p, "max_iterations"));
-      if (m < 1 || m > 100000) fail(q(at(p, "max_iterations")) + " must be in [1, 100000], got " + std::to_string(m));
-      e.nonlinear.max_iterations = static_cast<int>(m);
-    }
-    if (j.contains("tolerance")) {
-      const double t = number(j["tolerance"], at(p, "tolerance"));
-      if (!(t > 0.0 && t < 1.0)) fail(q(at(p, "tolerance")) + " must be in (0, 1), got " + num(t));
-      e.nonlinear.tolerance = t;
-    }
-    if (j.contains("allow_unanchored")) e.allow_unanchored = boolean(j["allow_unanchored"], at(p, "allow_unanchored"));
+    Json out = Json::object();
+    for (const char* key : {"order", "anisotropic", "multiresolution", "allow_unanchored"})
+      if (j.contains(key)) out[key] = j[key];
+    for (const char* key : {"outer", "inner"})
+      if (j.contains(key)) out["smoothness"][key] = j[key];
+    if (j.contains("nonlinear"))
+      out["deformation"] = deformation_name(boolean(j["nonlinear"], at(p, "nonlinear")) ? Deformation::Nonlinear
+                                                                                        : Deformation::Linear);
+    for (const char* key : {"preserve_volume", "max_iterations", "tolerance"})
+      if (j.contains(key)) out["nonlinear"][key] = j[key];
     if (j.contains("segments")) {
-      const std::string sp = at(p, "segments");
-      const Json& list = array(j["segments"], sp);
+      const Json& list = array(j["segments"], at(p, "segments"));
+      Json segments = Json::array();
       for (std::size_t i = 0; i < list.size(); ++i) {
-        const std::string ip = at(sp, i);
-        object(list[i], ip);
-        keys(list[i], ip, {"vertices", "value"});
-        SmoothnessSegment seg;
-        seg.value = number(required(list[i], ip, "value"), at(ip, "value"));
-        if (seg.value < 0.0 || seg.value > e.order - 1)
-          fail(q(at(ip, "value")) + " must be in [0, " + std::to_string(e.order - 1) + "], got " + num(seg.value));
-        const Json& vs = array(required(list[i], ip, "vertices"), at(ip, "vertices"));
-        for (std::size_t k = 0; k < vs.size(); ++k) seg.vertices.push_back(vertex(vs[k], at(at(ip, "vertices"), k), n));
-        std::sort(seg.vertices.begin(), seg.vertices.end());
-        seg.vertices.erase(std::unique(seg.vertices.begin(), seg.vertices.end()), seg.vertices.end());
-        e.segments.push_back(std::move(seg));
+        object(list[i], at(at(p, "segments"), i));
+        keys(list[i], at(at(p, "segments"), i), {"vertices", "value"});
+        Json seg{{"region", Json::object()}};
+        if (list[i].contains("vertices")) seg["region"]["vertices"] = list[i]["vertices"];
+        if (list[i].contains("value")) seg["value"] = list[i]["value"];
+        segments.push_back(std::move(seg));
       }
+      out["smoothness"]["segments"] = std::move(segments);
     }
-    return e;
+    return out;
   }
 
   void handle(const Json& j, const std::string& p, EditState& state) const {
@@ -219,25 +238,16 @@ class Reader : JsonReader {
 }  // namespace
 
 std::string session_text(const Session& s) {
-  Json current{{"parameters",
-                 {{"order", s.current.parameters().order},
-                  {"outer", s.current.parameters().outer},
-                  {"inner", s.current.parameters().inner},
-                  {"anisotropic", s.current.parameters().anisotropic},
-                  {"multiresolution", s.current.parameters().multiresolution},
-                  {"nonlinear", s.current.parameters().deformation == Deformation::Nonlinear},
-                  {"preserve_volume", s.current.parameters().nonlinear.preserve_volume},
-                  {"max_iterations", s.current.parameters().nonlinear.max_iterations},
-                  {"tolerance", s.current.parameters().nonlinear.tolerance},
-                  {"allow_unanchored", s.current.parameters().allow_unanchored}}}};
-  if (!s.current.parameters().segments.empty()) {
+  const EditParameters& params = s.current.parameters();
+  Json current{{"parameters", edit_settings_to_json(params)}};
+  if (!params.settings.smoothness.segments.empty()) {
     Json segments = Json::array();
-    for (const SmoothnessSegment& seg : s.current.parameters().segments) {
+    for (const SmoothnessSegment& seg : params.settings.smoothness.segments) {
       Json vs = Json::array();
       for (Vertex v : seg.vertices) vs.push_back(v.idx());
-      segments.push_back(Json{{"vertices", std::move(vs)}, {"value", seg.value}});
+      segments.push_back(Json{{"region", {{"vertices", std::move(vs)}}}, {"value", seg.value}});
     }
-    current["parameters"]["segments"] = std::move(segments);
+    current["parameters"]["smoothness"]["segments"] = std::move(segments);
   }
   Json support = Json::array();
   for (int v = 0; v < s.current.n_vertices(); ++v)
@@ -249,7 +259,7 @@ std::string session_text(const Session& s) {
   current["active_handle"] = s.active_handle;
   Json applied = Json::array();
   for (const Json& e : s.applied) applied.push_back(e);
-  const Json j{{"version", 1},
+  const Json j{{"version", kVersion},
                 {"mesh", {{"path", s.mesh_path}, {"relative", s.mesh_relative}, {"vertices", s.n_vertices}}},
                 {"applied", std::move(applied)},
                 {"current", std::move(current)}};

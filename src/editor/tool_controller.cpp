@@ -109,7 +109,7 @@ std::vector<Vertex> ToolController::region_vertices() const {
   if (options.mode == PaintMode::Support) return s.support_vertices();
   if (options.mode == PaintMode::Boundary) {
     const int seg = doc_.active_segment();
-    return seg < 0 ? std::vector<Vertex>{} : s.parameters().segments[static_cast<std::size_t>(seg)].vertices;
+    return seg < 0 ? std::vector<Vertex>{} : s.parameters().settings.smoothness.segments[static_cast<std::size_t>(seg)].vertices;
   }
   const HandleState* h = s.find_handle(doc_.active_handle());
   if (!h || h->movable != (options.mode == PaintMode::Handle)) return {};

@@ -301,7 +301,7 @@ TEST(EditFile, ArmadilloDemoEditParses) {
 TEST(EditFile, DeformationModelKey) {
   EXPECT_EQ(parse(with(R"("deformation": "linear")")).deformation, Deformation::Linear);
   EXPECT_THAT(error(with(R"("deformation": "rigid")")),
-              HasSubstr(R"(edit.json: "deformation" must be "linear" or "nonlinear", got "rigid")"));
+              HasSubstr(R"(edit.json: "deformation" must be one of "linear", "nonlinear", got "rigid")"));
   EXPECT_THAT(error(with(R"("deformation": 1)")), HasSubstr(R"("deformation" must be a string)"));
   const Edit e = parse(with(R"("deformation": "nonlinear", "nonlinear": {"max_iterations": 7, "tolerance": 0.001})"));
   EXPECT_EQ(e.deformation, Deformation::Nonlinear);

@@ -328,9 +328,9 @@ TEST(Document, ParametersAndManipulatorSteps) {
   const int id = setup(doc);
   const std::size_t steps = doc.history().undo_size();
   EditParameters p = doc.parameters();
-  p.order = 2;
+  p.settings.order = 2;
   doc.set_parameters(p);
-  EXPECT_EQ(doc.parameters().outer, 1.0);  // clamped
+  EXPECT_EQ(doc.parameters().settings.smoothness.outer, 1.0);  // clamped
   doc.set_parameters(doc.parameters());     // unchanged: no step
   EXPECT_EQ(doc.history().undo_size(), steps + 1);
   const Manipulator now = doc.state().find_handle(id)->manipulator;
@@ -341,8 +341,8 @@ TEST(Document, ParametersAndManipulatorSteps) {
   bad.scale = Vec3(1, 0, 1);
   EXPECT_THROW(doc.preview_manipulator(id, bad), InvalidInput);
   doc.undo();
-  EXPECT_EQ(doc.parameters().order, 3);
-  EXPECT_EQ(doc.parameters().outer, 2.0);
+  EXPECT_EQ(doc.parameters().settings.order, 3);
+  EXPECT_EQ(doc.parameters().settings.smoothness.outer, 2.0);
   doc.undo();  // the manipulator of setup()
   EXPECT_TRUE(is_identity(doc.state().find_handle(id)->manipulator));
   doc.wait_for_precompute();

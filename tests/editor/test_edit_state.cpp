@@ -77,19 +77,19 @@ TEST(EditState, CountsMatchBruteForceOverRandomEdits) {
 
 TEST(EditState, ParametersClampWithOrder) {
   EditParameters p;
-  p.order = 2;
+  p.settings.order = 2;
   const EditParameters n = normalized(p);  // 2.0 > k-1 = 1
-  EXPECT_EQ(n.outer, 1.0);
-  EXPECT_EQ(n.inner, 1.0);
-  p.order = 1;
-  EXPECT_EQ(normalized(p).outer, 0.0);
-  p.order = 3;
-  p.outer = 1.25;
-  EXPECT_EQ(normalized(p).outer, 1.25);
-  p.order = 4;
+  EXPECT_EQ(n.settings.smoothness.outer, 1.0);
+  EXPECT_EQ(n.settings.smoothness.inner, 1.0);
+  p.settings.order = 1;
+  EXPECT_EQ(normalized(p).settings.smoothness.outer, 0.0);
+  p.settings.order = 3;
+  p.settings.smoothness.outer = 1.25;
+  EXPECT_EQ(normalized(p).settings.smoothness.outer, 1.25);
+  p.settings.order = 4;
   EXPECT_THROW(normalized(p), InvalidInput);
-  p.order = 3;
-  p.inner = std::nan("");
+  p.settings.order = 3;
+  p.settings.smoothness.inner = std::nan("");
   EXPECT_THROW(normalized(p), InvalidInput);
 }
 
@@ -147,9 +147,9 @@ TEST(EditState, EditRoundTripsThroughJsonAndFromEdit) {
   const Mesh mesh = plane();
   EditState s = sample(mesh);
   EditParameters p;
-  p.order = 2;
-  p.outer = 0.5;
-  p.anisotropic = true;
+  p.settings.order = 2;
+  p.settings.smoothness.outer = 0.5;
+  p.settings.anisotropic = true;
   p.multiresolution = false;
   p.deformation = Deformation::Nonlinear;
   p.nonlinear.preserve_volume = false;

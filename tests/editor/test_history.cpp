@@ -38,7 +38,7 @@ TEST(History, TransitionsPlayBothWaysExactly) {
   const EditState a = random_state(n, 0, rng);
   EditState b = random_state(n, 3, rng);  // all handles new
   EditParameters p;
-  p.order = 2;
+  p.settings.order = 2;
   b.set_parameters(p);
   for (const EditState* to : {&b}) {
     const Step step = make_transition(a, *to, "t");
@@ -179,8 +179,8 @@ TEST(History, RandomSessionUndoesAndRedoesExactly) {
         break;
       case 6: {
         EditParameters p = doc.parameters();
-        p.order = 1 + static_cast<int>(u(rng) * 3);
-        p.outer = 2.0 * u(rng);
+        p.settings.order = 1 + static_cast<int>(u(rng) * 3);
+        p.settings.smoothness.outer = 2.0 * u(rng);
         p.multiresolution = u(rng) < 0.5;
         doc.set_parameters(p);
         break;

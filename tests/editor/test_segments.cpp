@@ -48,7 +48,7 @@ void setup(Document& doc, const std::string& path) {
   doc.open(path);
   const Mesh& m = doc.rest_mesh();
   EditParameters p;
-  p.order = 3;
+  p.settings.order = 3;
   p.multiresolution = false;
   doc.set_parameters(p);
   doc.set_region(PaintMode::Support, disc(m, Vec3(0.5, 0.5, 0), 0.4), false);
@@ -75,55 +75,55 @@ TEST(Segments, PaintValueUndoRedo) {
   doc.begin_stroke(PaintMode::Boundary, false);
   const std::vector<Vertex> right = right_of(m, 0.6);
   doc.stroke(right);
-  EXPECT_EQ(doc.parameters().segments.size(), 1u);  // live while painting
+  EXPECT_EQ(doc.parameters().settings.smoothness.segments.size(), 1u);  // live while painting
   doc.end_stroke();
   EXPECT_EQ(doc.history().undo_size(), steps + 1);
   EXPECT_EQ(doc.history().next_undo()->label, "paint smoothness segment");
-  ASSERT_EQ(doc.parameters().segments.size(), 1u);
+  ASSERT_EQ(doc.parameters().settings.smoothness.segments.size(), 1u);
   EXPECT_EQ(doc.active_segment(), 0);
-  EXPECT_EQ(doc.parameters().segments[0].value, 0.0);
+  EXPECT_EQ(doc.parameters().settings.smoothness.segments[0].value, 0.0);
   const std::vector<Vertex> stretch = intersect(band, right);
-  EXPECT_EQ(doc.parameters().segments[0].vertices, stretch);
+  EXPECT_EQ(doc.parameters().settings.smoothness.segments[0].vertices, stretch);
 
   doc.set_segment_value(0, 1.0);
-  EXPECT_EQ(doc.parameters().segments[0].value, 1.0);
+  EXPECT_EQ(doc.parameters().settings.smoothness.segments[0].value, 1.0);
   doc.set_segment_value(0, 7.0);  // clamped to k - 1
-  EXPECT_EQ(doc.parameters().segments[0].value, 2.0);
+  EXPECT_EQ(doc.parameters().settings.smoothness.segments[0].value, 2.0);
   doc.undo();
   doc.undo();
-  EXPECT_EQ(doc.parameters().segments[0].value, 0.0);
+  EXPECT_EQ(doc.parameters().settings.smoothness.segments[0].value, 0.0);
   doc.undo();
-  EXPECT_TRUE(doc.parameters().segments.empty());
+  EXPECT_TRUE(doc.parameters().settings.smoothness.segments.empty());
   EXPECT_EQ(doc.active_segment(), -1);
   doc.redo();
   doc.redo();
-  ASSERT_EQ(doc.parameters().segments.size(), 1u);
-  EXPECT_EQ(doc.parameters().segments[0].value, 1.0);
-  EXPECT_EQ(doc.parameters().segments[0].vertices, stretch);
+  ASSERT_EQ(doc.parameters().settings.smoothness.segments.size(), 1u);
+  EXPECT_EQ(doc.parameters().settings.smoothness.segments[0].value, 1.0);
+  EXPECT_EQ(doc.parameters().settings.smoothness.segments[0].vertices, stretch);
 
   // Erasing part of it, then all of it: the empty segment goes away.
   doc.set_active_segment(0);
   doc.set_region(PaintMode::Boundary, right_of(m, 0.75), true);
-  ASSERT_EQ(doc.parameters().segments.size(), 1u);
+  ASSERT_EQ(doc.parameters().settings.smoothness.segments.size(), 1u);
   std::vector<Vertex> kept;
   for (Vertex v : stretch)
     if (m.position(v).x() <= 0.75) kept.push_back(v);
   ASSERT_FALSE(kept.empty());
   ASSERT_LT(kept.size(), stretch.size());
-  EXPECT_EQ(doc.parameters().segments[0].vertices, kept);
+  EXPECT_EQ(doc.parameters().settings.smoothness.segments[0].vertices, kept);
   doc.set_region(PaintMode::Boundary, right, true);
-  EXPECT_TRUE(doc.parameters().segments.empty());
+  EXPECT_TRUE(doc.parameters().settings.smoothness.segments.empty());
   EXPECT_EQ(doc.active_segment(), -1);
   doc.undo();
-  EXPECT_EQ(doc.parameters().segments.size(), 1u);
+  EXPECT_EQ(doc.parameters().settings.smoothness.segments.size(), 1u);
   // A stroke outside the band paints nothing and records no step.
   const std::size_t before = doc.history().undo_size();
   doc.set_active_segment(-1);
   doc.set_region(PaintMode::Boundary, disc(m, Vec3(0.02, 0.02, 0), 0.06), false);  // a far corner
   EXPECT_EQ(doc.history().undo_size(), before);
-  EXPECT_EQ(doc.parameters().segments.size(), 1u);
+  EXPECT_EQ(doc.parameters().settings.smoothness.segments.size(), 1u);
   doc.delete_segment(0);
-  EXPECT_TRUE(doc.parameters().segments.empty());
+  EXPECT_TRUE(doc.parameters().settings.smoothness.segments.empty());
   EXPECT_THROW(doc.delete_segment(0), InvalidInput);
   EXPECT_THROW(doc.set_segment_value(0, 1.0), InvalidInput);
   EXPECT_THROW(doc.set_active_segment(3), InvalidInput);
@@ -153,7 +153,7 @@ TEST(Segments, DisplayExportImportAndSession) {
   EXPECT_NE(text.str().find("\"segments\""), std::string::npos);
   const Edit edit = read_edit_file(edit_path, m);
   ASSERT_EQ(edit.settings.smoothness.segments.size(), 1u);
-  EXPECT_EQ(edit.settings.smoothness.segments[0], doc.parameters().segments[0]);
+  EXPECT_EQ(edit.settings.smoothness.segments[0], doc.parameters().settings.smoothness.segments[0]);
   EXPECT_TRUE(bitwise_equal(deform(m, edit).positions(), shown));
 
   // Import restores it after a clear; a session round trip keeps it too.
@@ -172,12 +172,12 @@ TEST(Segments, DisplayExportImportAndSession) {
 
   // Lowering the order clamps the segment's value; the band shrinks to one ring.
   EditParameters k2 = doc.parameters();
-  k2.order = 2;
+  k2.settings.order = 2;
   doc.set_parameters(k2);
-  EXPECT_EQ(doc.parameters().segments[0].value, 1.0);
-  k2.segments[0].value = 5.0;
+  EXPECT_EQ(doc.parameters().settings.smoothness.segments[0].value, 1.0);
+  k2.settings.smoothness.segments[0].value = 5.0;
   doc.set_parameters(k2);
-  EXPECT_EQ(doc.parameters().segments[0].value, 1.0);
+  EXPECT_EQ(doc.parameters().settings.smoothness.segments[0].value, 1.0);
   EXPECT_LT(doc.smoothness_band().size(), smoothness_band(m, doc.state().regions(m), 3).size());
 }
 

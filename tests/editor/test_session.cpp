@@ -58,7 +58,7 @@ void build(Document& doc, const test::ScratchDir& dir) {
   doc.import_edit(edit);
   move_handle(doc, doc.active_handle(), Vec3(0.02, 0, 0.05), -15);
   EditParameters p = doc.parameters();
-  p.inner = 0.75;
+  p.settings.smoothness.inner = 0.75;
   // Saved even while the linear model is chosen, with the model's other options.
   p.nonlinear.preserve_volume = false;
   p.nonlinear.max_iterations = 250;
@@ -145,11 +145,15 @@ TEST(Session, MalformedFilesNameTheKey) {
   };
   EXPECT_TRUE(has(with([](auto& j) { j["current"]["handles"][0]["manipulatr"] = 1; }),
                   "s.json: unknown key \"current.handles[0].manipulatr\""));
+  // The parameters are read by the library, with the edit file's keys and messages.
   EXPECT_TRUE(has(with([](auto& j) { j["current"]["parameters"]["order"] = "3"; }),
-                  "\"current.parameters.order\" must be an integer, got a string"));
-  EXPECT_TRUE(has(with([](auto& j) { j["current"]["parameters"]["outer"] = 2.5; }), "\"current.parameters.outer\" must be in [0, 2]"));
+                  "s.json: current.parameters: \"order\" must be an integer, got a string"));
+  EXPECT_TRUE(has(with([](auto& j) { j["current"]["parameters"]["smoothness"]["outer"] = 2.5; }),
+                  "current.parameters: \"smoothness.outer\" must be in [0, 2]"));
+  EXPECT_TRUE(has(with([](auto& j) { j["current"]["parameters"]["deformation"] = "rigid"; }),
+                  "current.parameters: \"deformation\" must be one of \"linear\", \"nonlinear\", got \"rigid\""));
   EXPECT_TRUE(has(with([](auto& j) { j.erase("mesh"); }), "missing required key \"mesh\""));
-  EXPECT_TRUE(has(with([](auto& j) { j["version"] = 2; }), "unsupported session \"version\" 2"));
+  EXPECT_TRUE(has(with([](auto& j) { j["version"] = 3; }), "unsupported session \"version\" 3"));
   EXPECT_TRUE(has(with([](auto& j) { j["current"]["support"].push_back(10); }), "\"current.support[2]\" is vertex 10, outside"));
   EXPECT_TRUE(has(with([](auto& j) { j["current"]["handles"][0]["manipulator"]["rotation"] = {1, 0, 0}; }),
                   "\"current.handles[0].manipulator.rotation\" must be a quaternion"));

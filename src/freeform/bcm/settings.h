@@ -25,6 +25,7 @@ struct Smoothness {
   double outer = kDefault;  // fixed vertices (outside the support)
   double inner = kDefault;  // handle vertices (movable and immovable)
   std::vector<SmoothnessSegment> segments;
+  bool operator==(const Smoothness&) const = default;
 };
 
 // lambda_m(c) = clamp(c - m + 1, 0, 1): the weight of the level-m Laplacian at a stencil vertex
@@ -39,6 +40,7 @@ struct BcmSettings {
   // equalized conformal map of the support grown by k rings; falls back to the isotropic
   // operator (reason in BcmStats) for genus > 0 or flipped parameter triangles.
   bool anisotropic = false;
+  bool operator==(const BcmSettings&) const = default;
 };
 
 // Throws InvalidInput naming the value: order not in {1,2,3}, smoothness outside [0, k-1]

@@ -100,6 +100,10 @@ const Json& JsonReader::required(const Json& obj, const std::string& path, const
 }
 
 void JsonReader::keys(const Json& obj, const std::string& path, std::initializer_list<const char*> allowed) const {
+  keys(obj, path, std::span<const char* const>(allowed.begin(), allowed.size()));
+}
+
+void JsonReader::keys(const Json& obj, const std::string& path, std::span<const char* const> allowed) const {
   for (const auto& item : obj.items()) {
     const std::string& key = item.key();  // not a structured binding: clang 14 cannot capture those
     if (std::any_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; })) continue;

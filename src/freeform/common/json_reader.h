@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <initializer_list>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -33,6 +34,7 @@ class JsonReader {
   const Json& required(const Json& obj, const std::string& path, const char* key) const;
   // Fails on the first key of `obj` not in `allowed`, listing the allowed ones.
   void keys(const Json& obj, const std::string& path, std::initializer_list<const char*> allowed) const;
+  void keys(const Json& obj, const std::string& path, std::span<const char* const> allowed) const;
   void object(const Json& j, const std::string& path) const;
   const Json& array(const Json& j, const std::string& path) const;
   long long integer(const Json& j, const std::string& path) const;  // unsigned values saturate

@@ -12,6 +12,12 @@ std::string_view deformation_name(Deformation d) {
   return "unknown";
 }
 
+std::optional<Deformation> deformation_from_name(std::string_view name) {
+  for (Deformation d : kDeformations)
+    if (name == deformation_name(d)) return d;
+  return std::nullopt;
+}
+
 int n_movable(const Edit& edit) {
   return static_cast<int>(std::count_if(edit.handles.begin(), edit.handles.end(), [](const EditHandle& h) { return h.movable; }));
 }

@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 
+#include <array>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -22,7 +23,9 @@ enum class Deformation {
   Linear,     // the paper's BCM: a precomputed basis, every frame one dense product
   Nonlinear,  // rotation-aware BCM (docs/nonlinear.md): iterations of back-substitutions
 };
+inline constexpr std::array<Deformation, 2> kDeformations = {Deformation::Linear, Deformation::Nonlinear};
 std::string_view deformation_name(Deformation d);  // "linear", "nonlinear", as in edit files
+std::optional<Deformation> deformation_from_name(std::string_view name);  // nullopt: no such model
 
 struct EditHandle {
   std::vector<Vertex> vertices;
@@ -31,16 +34,23 @@ struct EditHandle {
   std::optional<Eigen::Affine3d> matrix;  // a general affine map given as a 4x4 matrix
 };
 
-struct Edit {
-  BcmSettings settings;  // order, boundary smoothness, anisotropic bending
-  std::vector<Vertex> support;
-  std::vector<EditHandle> handles;
+// An edit's settings: all of an edit file but its regions and transforms, in the one form every
+// front end holds (the editor and its sessions, the CLI, Python, Blender). edit_json.h reads and
+// writes them as edit-file keys; a new setting is added here and there (docs/architecture.md).
+struct EditSettings {
+  BcmSettings settings;  // order, boundary smoothness (with its segments), anisotropic bending
   bool multiresolution = true;  // detail-preserving editing (docs/multires.md); the default
   Deformation deformation = Deformation::Linear;
-  NonlinearOptions nonlinear;  // iterations and tolerance of the nonlinear model
+  NonlinearOptions nonlinear;  // iterations, tolerance and volume term of the nonlinear model
   // The linear model refuses a closed component held by movable handles only (nothing fixed):
   // its fill collapses onto the handles. true: solve it anyway.
   bool allow_unanchored = false;
+  bool operator==(const EditSettings&) const = default;
+};
+
+struct Edit : EditSettings {
+  std::vector<Vertex> support;
+  std::vector<EditHandle> handles;
 };
 
 int n_movable(const Edit& edit);

@@ -39,16 +39,18 @@ Eigen::Affine3d checked_matrix(const Eigen::Matrix4d& m, const std::string& what
   }
 }
 
-class Parser : JsonReader {
+// The settings keys (kEditSettingsKeys) of an edit file or a session's parameters.
+class SettingsReader : protected JsonReader {
  public:
-  Parser(const Mesh& mesh, std::string name, fs::path base_dir)
-      : JsonReader(std::move(name)), mesh_(mesh), base_(std::move(base_dir)) {}
+  explicit SettingsReader(std::string name) : JsonReader(std::move(name)) {}
 
-  Edit edit(const Json& j) {
+  // `j`'s settings keys; its other keys must be in `extra`. "smoothness.segments" is the caller's.
+  EditSettings settings(const Json& j, std::span<const char* const> extra) const {
     if (!j.is_object()) fail("the edit must be a JSON object, got " + type_of(j));
-    keys(j, "", {"order", "support", "handles", "smoothness", "anisotropic", "multiresolution", "deformation", "nonlinear",
-                 "allow_unanchored"});
-    Edit e;
+    std::vector<const char*> allowed(kEditSettingsKeys.begin(), kEditSettingsKeys.end());
+    allowed.insert(allowed.end(), extra.begin(), extra.end());
+    keys(j, "", std::span<const char* const>(allowed));
+    EditSettings e;
     if (j.contains("order")) {
       const long long k = integer(j["order"], "order");
       if (k < 1 || k > 3)
@@ -62,26 +64,26 @@ class Parser : JsonReader {
     if (j.contains("deformation")) e.deformation = deformation(j["deformation"]);
     if (j.contains("allow_unanchored")) e.allow_unanchored = boolean(j["allow_unanchored"], "allow_unanchored");
     if (j.contains("nonlinear")) nonlinear(j["nonlinear"], e.nonlinear);
-    e.support = selector(required(j, "", "support"), "support");
-    if (j.contains("handles")) {
-      const Json& hs = array(j["handles"], "handles");
-      for (std::size_t i = 0; i < hs.size(); ++i) e.handles.push_back(handle(hs[i], index_path("handles", i)));
-    }
-    if (j.contains("smoothness") && j["smoothness"].contains("segments"))
-      e.settings.smoothness.segments = segments(j["smoothness"]["segments"], e);
     return e;
   }
 
- private:
-  const Mesh& mesh_;
-  fs::path base_;
-  std::map<std::string, std::vector<int>> sel_cache_;
+ protected:
+  double smoothness_value(const Json& j, const std::string& path, int k) const {
+    const double c = number(j, path);
+    if (c < 0.0 || c > k - 1)
+      fail(quoted(path) + " must be in [0, " + std::to_string(k - 1) + "] for order " + std::to_string(k) +
+           " (0 = crease, " + std::to_string(k - 1) + " = smoothest), got " + num(c));
+    return c;
+  }
 
+ private:
   Deformation deformation(const Json& j) const {
     const std::string name = string(j, "deformation");
-    for (Deformation d : {Deformation::Linear, Deformation::Nonlinear})
-      if (name == deformation_name(d)) return d;
-    fail("\"deformation\" must be \"linear\" or \"nonlinear\", got \"" + name + "\"");
+    if (const std::optional<Deformation> d = deformation_from_name(name)) return *d;
+    std::string names;
+    for (Deformation d : kDeformations)
+      names += std::string(names.empty() ? "" : ", ") + "\"" + std::string(deformation_name(d)) + "\"";
+    fail("\"deformation\" must be one of " + names + ", got \"" + name + "\"");
   }
 
   void nonlinear(const Json& j, NonlinearOptions& o) const {
@@ -108,14 +110,31 @@ class Parser : JsonReader {
         (std::string(side) == "outer" ? settings.smoothness.outer : settings.smoothness.inner) =
             smoothness_value(j[side], key_path("smoothness", side), settings.order);
   }
+};
 
-  double smoothness_value(const Json& j, const std::string& path, int k) const {
-    const double c = number(j, path);
-    if (c < 0.0 || c > k - 1)
-      fail(quoted(path) + " must be in [0, " + std::to_string(k - 1) + "] for order " + std::to_string(k) +
-           " (0 = crease, " + std::to_string(k - 1) + " = smoothest), got " + num(c));
-    return c;
+class Parser : SettingsReader {
+ public:
+  Parser(const Mesh& mesh, std::string name, fs::path base_dir)
+      : SettingsReader(std::move(name)), mesh_(mesh), base_(std::move(base_dir)) {}
+
+  Edit edit(const Json& j) {
+    static constexpr std::array<const char*, 2> regions = {"support", "handles"};
+    Edit e;
+    static_cast<EditSettings&>(e) = settings(j, regions);
+    e.support = selector(required(j, "", "support"), "support");
+    if (j.contains("handles")) {
+      const Json& hs = array(j["handles"], "handles");
+      for (std::size_t i = 0; i < hs.size(); ++i) e.handles.push_back(handle(hs[i], index_path("handles", i)));
+    }
+    if (j.contains("smoothness") && j["smoothness"].contains("segments"))
+      e.settings.smoothness.segments = segments(j["smoothness"]["segments"], e);
+    return e;
   }
+
+ private:
+  const Mesh& mesh_;
+  fs::path base_;
+  std::map<std::string, std::vector<int>> sel_cache_;
 
   // Each segment keeps only the vertices where c acts (smoothness_band), so a segment that
   // selects none of them would silently do nothing: that is an error.
@@ -260,6 +279,10 @@ Json matrix_json(const Eigen::Affine3d& t) {
 
 }  // namespace
 
+EditSettings parse_edit_settings(const Json& j, const std::string& name, std::span<const char* const> extra) {
+  return SettingsReader(name).settings(j, extra);
+}
+
 Edit parse_edit(const Json& j, const Mesh& mesh, const std::string& name, const fs::path& base_dir) {
   return Parser(mesh, name, base_dir).edit(j);
 }
@@ -288,9 +311,23 @@ Edit edit_from_sel_def(const std::string& sel_path, const std::string& def_path,
   return e;
 }
 
-Json edit_to_json(const Edit& edit) {
+Json edit_settings_to_json(const EditSettings& s) {
   Json j;
-  j["order"] = edit.settings.order;
+  j["order"] = s.settings.order;
+  j["smoothness"] = Json{{"outer", resolved_outer(s.settings)}, {"inner", resolved_inner(s.settings)}};
+  j["anisotropic"] = s.settings.anisotropic;
+  j["multiresolution"] = s.multiresolution;
+  j["deformation"] = deformation_name(s.deformation);
+  if (s.allow_unanchored) j["allow_unanchored"] = true;
+  if (s.deformation == Deformation::Nonlinear || s.nonlinear != NonlinearOptions{})
+    j["nonlinear"] = Json{{"max_iterations", s.nonlinear.max_iterations},
+                          {"tolerance", s.nonlinear.tolerance},
+                          {"preserve_volume", s.nonlinear.preserve_volume}};
+  return j;
+}
+
+Json edit_to_json(const Edit& edit) {
+  Json j = edit_settings_to_json(edit);
   j["support"] = vertex_selector(edit.support);
   Json handles = Json::array();
   for (const EditHandle& h : edit.handles) {
@@ -312,21 +349,12 @@ Json edit_to_json(const Edit& edit) {
     handles.push_back(std::move(hj));
   }
   j["handles"] = std::move(handles);
-  j["smoothness"] = Json{{"outer", resolved_outer(edit.settings)}, {"inner", resolved_inner(edit.settings)}};
   if (!edit.settings.smoothness.segments.empty()) {
     Json segs = Json::array();
     for (const SmoothnessSegment& seg : edit.settings.smoothness.segments)
       segs.push_back(Json{{"region", vertex_selector(seg.vertices)}, {"value", seg.value}});
     j["smoothness"]["segments"] = std::move(segs);
   }
-  j["anisotropic"] = edit.settings.anisotropic;
-  j["multiresolution"] = edit.multiresolution;
-  j["deformation"] = deformation_name(edit.deformation);
-  if (edit.allow_unanchored) j["allow_unanchored"] = true;
-  if (edit.deformation == Deformation::Nonlinear)
-    j["nonlinear"] = Json{{"max_iterations", edit.nonlinear.max_iterations},
-                          {"tolerance", edit.nonlinear.tolerance},
-                          {"preserve_volume", edit.nonlinear.preserve_volume}};
   return j;
 }
 

@@ -10,7 +10,9 @@
 #include "freeform/edit/edit.h"
 #include "freeform/mesh/mesh.h"
 
+#include <array>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -29,6 +31,20 @@ Edit parse_edit(const Json& j, const Mesh& mesh, const std::string& name, const 
 // The Botsch-Sorkine benchmark pair (regions/sel_file.h): support = labels {1, 2}, one
 // movable handle = label 2 moved by the .def matrix. order in {1, 2, 3}, default smoothness.
 Edit edit_from_sel_def(const std::string& sel_path, const std::string& def_path, int order, const Mesh& mesh);
+
+// The keys of an edit file that hold its settings (EditSettings): all but "support" and "handles".
+inline constexpr std::array<const char*, 7> kEditSettingsKeys = {
+    "order", "smoothness", "anisotropic", "multiresolution", "deformation", "nonlinear", "allow_unanchored"};
+
+// Reads the settings keys of `j` (edit-file keys, the same checks and messages as
+// parse_edit; `name` names the document in them). Any other key must be in `extra`;
+// "smoothness.segments" is accepted and left to the caller (it needs the regions).
+EditSettings parse_edit_settings(const Json& j, const std::string& name, std::span<const char* const> extra = {});
+
+// The settings as edit-file keys, without segments: order, smoothness (outer, inner),
+// anisotropic, multiresolution, deformation, nonlinear (where the model is nonlinear or its
+// options are not the defaults) and allow_unanchored (where true).
+Json edit_settings_to_json(const EditSettings& settings);
 
 // The edit as edit-file JSON: explicit order, smoothness, anisotropic, multiresolution and
 // deformation; {"vertices": [...]} selectors; "matrix" transforms with full round-trip
