@@ -58,6 +58,14 @@ class SettingsRoundTrip : public ::testing::Test {
     EXPECT_TRUE(static_cast<const EditSettings&>(b) == static_cast<const EditSettings&>(a));
   }
 
+  Session session_of_the_edit() const {
+    Session s;
+    s.mesh_path = mesh_path_;
+    s.n_vertices = mesh_.n_vertices();
+    s.current = EditState::from_edit(parse_edit(Json::parse(kEdit), mesh_, "file", dir_.path()), mesh_, 0);
+    return s;
+  }
+
   test::ScratchDir dir_;
   std::string mesh_path_, edit_path_;
   Mesh mesh_;
@@ -89,11 +97,7 @@ TEST_F(SettingsRoundTrip, EditFileThroughTheEditorDocument) {
 }
 
 TEST_F(SettingsRoundTrip, EditFileThroughASession) {
-  const Edit edit = parse_edit(Json::parse(kEdit), mesh_, "file", dir_.path());
-  Session s;
-  s.mesh_path = mesh_path_;
-  s.n_vertices = mesh_.n_vertices();
-  s.current = EditState::from_edit(edit, mesh_, 0);
+  const Session s = session_of_the_edit();
   const Session back = parse_session_text(session_text(s), "s.json");
   EXPECT_TRUE(back.current == s.current);
   expect_same_settings(edit_to_json(back.current.to_edit(mesh_)));
@@ -102,11 +106,7 @@ TEST_F(SettingsRoundTrip, EditFileThroughASession) {
 // Sessions written before the edit-file keys (version 1) still load, with the same values for
 // the settings version 1 has (settings added since keep their defaults).
 TEST_F(SettingsRoundTrip, Version1SessionParameters) {
-  const Edit edit = parse_edit(Json::parse(kEdit), mesh_, "file", dir_.path());
-  Session s;
-  s.mesh_path = mesh_path_;
-  s.n_vertices = mesh_.n_vertices();
-  s.current = EditState::from_edit(edit, mesh_, 0);
+  const Session s = session_of_the_edit();
   Json j = Json::parse(session_text(s));
   const EditParameters& p = s.current.parameters();
   Json v1{{"order", p.settings.order},
