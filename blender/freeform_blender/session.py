@@ -3,6 +3,7 @@ background thread), the current handle transforms and the shapes it wrote (so Bl
 which restores positions only, also restores the transforms that made them)."""
 
 import hashlib
+import json
 import threading
 
 import numpy as np
@@ -17,12 +18,25 @@ def shape_hash(points):
     return hashlib.blake2b(np.ascontiguousarray(points, dtype=np.float32).tobytes(), digest_size=16).digest()
 
 
+def settings_dict(obj):
+    """The object's settings (properties.py) as the settings keys of an edit file
+    (docs/edit-format.md): the one place the add-on maps its properties to the library's."""
+    s = obj.freeform
+    k = int(s.order)
+    return {
+        "order": k,
+        "smoothness": {"outer": min(s.outer, k - 1.0), "inner": min(s.inner, k - 1.0)},
+        "anisotropic": bool(s.anisotropic),
+        "multiresolution": bool(s.multiresolution),
+        "deformation": s.deformation.lower(),
+        "nonlinear": {"preserve_volume": bool(s.preserve_volume)},
+    }
+
+
 def edit_dict(obj, members, transforms, tris):
     """The edit-file schema (docs/edit-format.md) for the object's groups and settings, and the
     movable handles' names in the edit's order. Loose
     vertices (in no face) are left out: nothing could move them, they stay where they are."""
-    s = obj.freeform
-    k = int(s.order)
     in_faces = np.zeros(len(obj.data.vertices), dtype=bool)
     in_faces[tris.ravel()] = True
     members = {n: ix[in_faces[ix]] for n, ix in members.items()}
@@ -45,16 +59,7 @@ def edit_dict(obj, members, transforms, tris):
     if not movable_names:
         raise UserError(f"Freeform: '{obj.name}' has no movable handle: select vertices inside the support "
                         "and press New Handle")
-    return {
-        "order": k,
-        "support": {"vertices": support},
-        "handles": handles,
-        "smoothness": {"outer": min(s.outer, k - 1.0), "inner": min(s.inner, k - 1.0)},
-        "anisotropic": bool(s.anisotropic),
-        "multiresolution": bool(s.multiresolution),
-        "deformation": s.deformation.lower(),
-        "nonlinear": {"preserve_volume": bool(s.preserve_volume)},
-    }, movable_names
+    return dict(settings_dict(obj), support={"vertices": support}, handles=handles), movable_names
 
 
 class Session:
@@ -151,12 +156,10 @@ class Session:
 
 
 def _key(obj, members, tris):
-    s = obj.freeform
     digest = hashlib.blake2b(tris.tobytes(), digest_size=16)
     for name in sorted(members):
         digest.update(name.encode() + b"\0" + members[name].tobytes())
-    return (len(obj.data.vertices), digest.digest(), s.order, round(s.outer, 6), round(s.inner, 6),
-            s.anisotropic, s.multiresolution, s.deformation, s.preserve_volume)
+    return (len(obj.data.vertices), digest.digest(), json.dumps(settings_dict(obj), sort_keys=True))
 
 
 def get(obj):
