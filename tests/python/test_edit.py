@@ -35,6 +35,20 @@ def test_to_dict_round_trip_deforms_bit_for_bit(plane, plane_edit):
     assert np.array_equal(freeform.deform(plane, again), freeform.deform(plane, plane_edit))
 
 
+def test_every_settings_key_survives_from_dict_to_dict(plane):
+    """Each settings key of an edit file (docs/edit-format.md), away from its default, comes
+    back from Edit.from_dict -> to_dict unchanged (the library reads and writes them)."""
+    d = plane_edit_dict()
+    settings = {"order": 3, "smoothness": {"outer": 0.5, "inner": 1.25}, "anisotropic": True,
+                "multiresolution": False, "deformation": "nonlinear",
+                "nonlinear": {"max_iterations": 250, "tolerance": 3e-05, "preserve_volume": False},
+                "allow_unanchored": True}
+    d.update(settings)
+    back = freeform.Edit.from_dict(d, plane).to_dict()
+    for key, value in settings.items():
+        assert back[key] == value, key
+
+
 def test_write_edit(tmp_path, plane, plane_edit):
     freeform.write_edit(tmp_path / "e.json", plane_edit)
     assert freeform.read_edit(tmp_path / "e.json", plane).to_dict() == plane_edit.to_dict()
