@@ -215,7 +215,8 @@ void App::panel_parameters() {
   bool slider_done = false;
   const float max_c = static_cast<float>(p.settings.order - 1);
   if (!ImGui::IsAnyItemActive()) param_edit_ = current;
-  float outer = static_cast<float>(param_edit_.settings.smoothness.outer), inner = static_cast<float>(param_edit_.settings.smoothness.inner);
+  const Smoothness& edited = param_edit_.settings.smoothness;
+  float outer = static_cast<float>(edited.outer), inner = static_cast<float>(edited.inner);
   ImGui::BeginDisabled(p.settings.order == 1);
   if (ImGui::SliderFloat("outer smoothness", &outer, 0.0f, max_c, "C%.2f")) param_edit_.settings.smoothness.outer = outer;
   slider_done |= ImGui::IsItemDeactivatedAfterEdit();

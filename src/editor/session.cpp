@@ -121,10 +121,11 @@ class Reader : JsonReader {
     return settings_parameters(j, p, n);
   }
 
-  EditParameters settings_parameters(const Json& j, const std::string& p, int n) const {
+  EditParameters settings_parameters(const Json& given, const std::string& p, int n) const {
+    Json j = given;  // without "order": the editor's default order, which the smoothness is checked against
+    if (j.is_object() && !j.contains("order")) j["order"] = EditParameters().settings.order;
     EditParameters e;
     static_cast<EditSettings&>(e) = parse_edit_settings(j, name() + ": " + p);
-    if (!j.contains("order")) e.settings.order = EditParameters().settings.order;
     if (!j.contains("smoothness") || !j["smoothness"].contains("segments")) return e;
     const std::string sp = at(at(p, "smoothness"), "segments");
     const Json& list = array(j["smoothness"]["segments"], sp);

@@ -145,5 +145,18 @@ TEST_F(SettingsRoundTrip, Version1SessionParameters) {
   EXPECT_THROW(parse_session_text(j.dump(), "v1.json"), InvalidInput);
 }
 
+// A session without "order" has the editor's default order, and its smoothness is checked
+// against that order (not the library's default).
+TEST_F(SettingsRoundTrip, SessionWithoutOrderTakesTheEditorsDefault) {
+  Json j = Json::parse(session_text(session_of_the_edit()));
+  Json& params = j["current"]["parameters"];
+  params.erase("order");
+  params["smoothness"].erase("segments");
+  params["smoothness"]["outer"] = 2.0;
+  const Session back = parse_session_text(j.dump(), "s.json");
+  EXPECT_EQ(back.current.parameters().settings.order, EditParameters().settings.order);
+  EXPECT_EQ(back.current.parameters().settings.smoothness.outer, 2.0);
+}
+
 }  // namespace
 }  // namespace freeform::editor
