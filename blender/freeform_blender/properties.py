@@ -3,6 +3,8 @@
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
 
+from .native import ff
+
 
 def _order_changed(self, context):
     # Smoothness is absolute (C0..C^(k-1)): keep it in range, and "smoothest" stays smoothest.
@@ -19,6 +21,17 @@ def _changed(self, context):
     # A running edit follows its settings: precompute again in the background and show it.
     from . import operators
     operators.refresh_soon(self.id_data)
+
+
+# Tooltips of the models the library lists (freeform.DEFORMATIONS); a model added there appears
+# with a generic one. The item is the edit-file name in capitals (saved in .blend files).
+_MODEL_TIPS = {"linear": "The paper's BCM: one dense product per frame",
+               "nonlinear": "Rotation-aware BCM: large twists and bends keep their volume (iterates)"}
+
+
+def _model_items():
+    names = ff.DEFORMATIONS if ff is not None else ("linear",)
+    return [(n.upper(), n.capitalize(), _MODEL_TIPS.get(n, f"The library's {n} model")) for n in names]
 
 
 class FreeformSettings(bpy.types.PropertyGroup):
@@ -39,10 +52,7 @@ class FreeformSettings(bpy.types.PropertyGroup):
     multiresolution: BoolProperty(
         name="Keep detail", default=True, update=_changed,
         description="Multiresolution: deform a smooth base and put the detail back on it")
-    deformation: EnumProperty(
-        name="Model", default='LINEAR', update=_changed,
-        items=[('LINEAR', "Linear", "The paper's BCM: one dense product per frame"),
-               ('NONLINEAR', "Nonlinear", "Rotation-aware BCM: large twists and bends keep their volume (iterates)")])
+    deformation: EnumProperty(name="Model", default='LINEAR', update=_changed, items=_model_items())
     preserve_volume: BoolProperty(
         name="Keep volume", default=True, update=_changed,
         description="Nonlinear model: keep the enclosed volume of closed meshes (off for pulls that should add volume)")

@@ -9,6 +9,8 @@ from numpy.typing import ArrayLike, NDArray
 from ._types import DragFrame as DragFrame, FrameState as FrameState, Problems as Problems
 
 __version__: str
+DEFORMATIONS: tuple[str, ...]
+"""The models' names, as edit files spell them ("deformation"): ("linear", "nonlinear")."""
 
 _Path = Union[str, bytes, os.PathLike[str], os.PathLike[bytes]]
 # One 4 x 4 affine matrix per movable handle: a sequence of (4, 4) arrays or one (m, 4, 4) array.
@@ -66,9 +68,6 @@ class EditSolver:
         """(n, 3) float64: the positions of all vertices for these transforms."""
     def evaluate_into(self, out: NDArray[np.float64], transforms: _Transforms = None) -> None:
         """Writes the rows of `touched` into out ((n, 3) float64, C-contiguous)."""
-    def evaluate_within(self, out: NDArray[np.float64], transforms: _Transforms = None, *,
-                        budget_ms: float = 20.0) -> FrameState: ...
-    def refine(self, out: NDArray[np.float64], transforms: _Transforms = None, *, budget_ms: float = 20.0) -> FrameState: ...
     def frame(self, out: NDArray[np.float64], transforms: _Transforms = None) -> DragFrame: ...
     def settle(self, out: NDArray[np.float64], transforms: _Transforms = None) -> DragFrame: ...
     def _time_evaluate(self, n: int, transforms: _Transforms = None, copy: bool = False) -> NDArray[np.float64]: ...

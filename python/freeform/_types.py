@@ -4,7 +4,7 @@ from typing import Optional, TypedDict
 
 
 class FrameState(TypedDict):
-    """What EditSolver.evaluate_within and refine return."""
+    """The nonlinear model's state in what EditSolver.frame and settle return."""
     iterations: int
     residual: float
     converged: bool

@@ -59,6 +59,9 @@ void bind_edit(py::module_& m) {
         write_edit_file(p, edit.edit);
       },
       py::arg("path"), py::arg("edit"), "Writes Edit.to_dict()'s content as an edit file, atomically.");
+  py::tuple names(kDeformations.size());  // the models' edit-file names: front ends list these
+  for (std::size_t i = 0; i < kDeformations.size(); ++i) names[i] = std::string(deformation_name(kDeformations[i]));
+  m.attr("DEFORMATIONS") = names;
 }
 
 }  // namespace freeform::python

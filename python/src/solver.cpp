@@ -136,29 +136,6 @@ class PySolver {
     });
   }
 
-  // A drag: the nonlinear model iterates from the previous frame for at most budget_ms
-  // (refine: continues the last frame's iterations), writes the current iterate like
-  // evaluate_into and says how far it got. The linear model is always converged.
-  py::dict evaluate_within(py::handle out, py::handle transforms, double budget_ms, bool refine) {
-    if (!(budget_ms > 0.0)) throw py::value_error("budget_ms must be > 0");
-    double* dst = output(out);
-    Buffer buf;
-    const std::span<const Eigen::Affine3d> t = read(transforms, buf);
-    NonlinearState state;
-    {
-      py::gil_scoped_release release;
-      const std::lock_guard lock(mutex_);
-      drag_.reset();
-      state = refine ? solver_->refine(t, budget_ms, positions_) : solver_->evaluate_within(t, budget_ms, positions_);
-      copy_touched(dst);
-    }
-    py::dict d;
-    d["iterations"] = state.iterations;
-    d["residual"] = state.step;
-    d["converged"] = state.converged;
-    return d;
-  }
-
   // An interactive frame (DragSession): the nonlinear model iterates on a worker thread and
   // the frame shows its newest iterate, moved by linear BCM's change when the transforms are
   // newer (never waits). settle: wait until it converged (or hit its cap) for these transforms.
@@ -320,20 +297,6 @@ void bind_solver(py::module_& m) {
       .def("evaluate_into", &PySolver::evaluate_into, py::arg("out"), py::arg("transforms") = py::none(),
            "Like evaluate, but writes into `out` (float64, n x 3, C-contiguous) without allocating: only the "
            "rows of `touched` are written, the others keep what `out` holds (start from mesh.vertices).")
-      .def("evaluate_within",
-           [](PySolver& self, py::handle out, py::handle transforms, double budget_ms) {
-             return self.evaluate_within(out, transforms, budget_ms, false);
-           },
-           py::arg("out"), py::arg("transforms") = py::none(), py::kw_only(), py::arg("budget_ms") = 20.0,
-           "A drag frame: like evaluate_into, but the nonlinear model iterates from the previous frame for at most "
-           "budget_ms; returns {iterations, residual, converged}. The linear model is always converged.")
-      .def("refine",
-           [](PySolver& self, py::handle out, py::handle transforms, double budget_ms) {
-             return self.evaluate_within(out, transforms, budget_ms, true);
-           },
-           py::arg("out"), py::arg("transforms") = py::none(), py::kw_only(), py::arg("budget_ms") = 20.0,
-           "Continues the last frame's nonlinear iterations for at most budget_ms (call while idle until converged); "
-           "writes out like evaluate_into; returns {iterations, residual, converged}.")
       .def(
           "frame",
           [](PySolver& self, py::handle out, py::handle transforms) { return self.drag_frame(out, transforms, false); },

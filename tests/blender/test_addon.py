@@ -114,6 +114,11 @@ def test_the_module_loads_the_libraries_bundled_in_the_zip(ff):
     assert all(path.startswith(bundled) for path in ours), ours
 
 
+def test_the_model_choices_are_the_librarys_models(ff):
+    items = bpy.types.Object.bl_rna.properties["freeform"].fixed_type.properties["deformation"].enum_items
+    assert [i.identifier.lower() for i in items] == list(ff.DEFORMATIONS) == ["linear", "nonlinear"]
+
+
 def test_apply_edit_on_the_imported_armadillo_equals_the_cli(scene, tmp_path):
     ff = scene
     rest = ff.read_mesh(os.path.join(MESHES, "armadillo.off"))

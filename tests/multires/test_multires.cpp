@@ -3,6 +3,7 @@
 // (against plain BCM), sharp features on fandisk, the fallback, problem detection.
 #include "freeform/multires/multires_solver.h"
 #include "freeform/multires/normal_displacement.h"
+#include "freeform/nonlinear/nonlinear_solver.h"
 
 #include "freeform/common/error.h"
 #include "freeform/io/mesh_io.h"
@@ -562,7 +563,7 @@ TEST(Multires, RejectsWrongInput) {
   EXPECT_THROW(MultiresSolver(s.mesh, s.regions, BcmSettings{}, bad), InvalidInput);
   MultiresOptions frames_on_nonlinear;
   frames_on_nonlinear.encoding = MultiresOptions::Encoding::VertexFrame;
-  frames_on_nonlinear.nonlinear = NonlinearOptions{};
+  frames_on_nonlinear.model = nonlinear_base_model(NonlinearOptions{});
   EXPECT_THROW(MultiresSolver(s.mesh, s.regions, BcmSettings{}, frames_on_nonlinear), InvalidInput);
   const MultiresSolver solver(s.mesh, s.regions, BcmSettings{});
   VertexData<Vec3> x = s.mesh.positions();

@@ -10,6 +10,7 @@
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/folds.h"
 #include "freeform/multires/multires_solver.h"
+#include "freeform/nonlinear/nonlinear_solver.h"
 #include "freeform/regions/selectors.h"
 
 #include <gtest/gtest.h>
@@ -190,7 +191,7 @@ TEST(SurveyNonlinear, OverhangingDetailIsCarriedByTheModel) {
   // What the decomposition did with the same edit: the ear's detail re-added along the turned
   // base normals folds dozens of edges (446 before the membrane term, 60 with it).
   MultiresOptions options;
-  options.nonlinear = s.edit.nonlinear;
+  options.model = nonlinear_base_model(s.edit.nonlinear);
   const MultiresSolver decomposed(mesh, edit_regions(mesh, s.edit), s.edit.settings, options);
   VertexData<Vec3> p = rest;
   decomposed.evaluate(std::vector<Eigen::Affine3d>{*h.matrix}, p);

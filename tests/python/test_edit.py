@@ -35,6 +35,16 @@ def test_to_dict_round_trip_deforms_bit_for_bit(plane, plane_edit):
     assert np.array_equal(freeform.deform(plane, again), freeform.deform(plane, plane_edit))
 
 
+def test_deformations_lists_the_models_edit_files_accept(plane):
+    """freeform.DEFORMATIONS (what the Blender add-on offers) are the names the edit format takes."""
+    assert freeform.DEFORMATIONS == ("linear", "nonlinear")
+    for name in freeform.DEFORMATIONS:
+        d = dict(plane_edit_dict(), deformation=name)
+        assert freeform.Edit.from_dict(d, plane).to_dict()["deformation"] == name
+    with pytest.raises(freeform.Error, match='"deformation" must be one of "linear", "nonlinear"'):
+        freeform.Edit.from_dict(dict(plane_edit_dict(), deformation="arap"), plane)
+
+
 def test_every_settings_key_survives_from_dict_to_dict(plane):
     """Each settings key of an edit file (docs/edit-format.md), away from its default, comes
     back from Edit.from_dict -> to_dict unchanged (the library reads and writes them)."""

@@ -240,43 +240,6 @@ def test_nonlinear_keeps_the_volume_of_closed_meshes():
     assert abs(volume(run(False)) / rest - 1.0) > 0.01
 
 
-def test_drag_frames_refine_to_the_models_solution(plane):
-    """The editor's loop from Python: budgeted frames while the handle moves, refine() while it
-    rests, until converged: then as close to the tightly solved fixed point as a cold solve
-    is, and far closer than linear BCM (independent of how the budget splits the iterations)."""
-    d = plane_edit_dict()
-    d["deformation"] = "nonlinear"
-    solver = freeform.EditSolver(plane, freeform.Edit.from_dict(d, plane))
-    out = plane.vertices
-    pivot = solver.handle_centroid(0)
-    for angle in np.radians(np.arange(6, 96, 6)):  # a rotating drag, a few iterations a frame
-        c, s = np.cos(angle), np.sin(angle)
-        t = np.eye(4)
-        t[:3, :3] = [[1, 0, 0], [0, c, -s], [0, s, c]]
-        t[:3, 3] = pivot - t[:3, :3] @ pivot + [0, 0, 0.2]
-        state = solver.evaluate_within(out, [t], budget_ms=0.01)
-        assert state["iterations"] >= 1 and np.isfinite(out).all()
-    for _ in range(10000):
-        if state["converged"]:
-            break
-        state = solver.refine(out, [t], budget_ms=0.01)
-    assert state["converged"] and state["residual"] <= 1e-4
-    tight = dict(d, nonlinear={"tolerance": 1e-9, "max_iterations": 100000})
-    handles = [dict(h) for h in d["handles"]]
-    handles[0]["transform"] = {"matrix": t}
-    fixed_point = freeform.deform(plane, freeform.Edit.from_dict(dict(tight, handles=handles), plane))
-    cold = freeform.deform(plane, freeform.Edit.from_dict(dict(d, handles=handles), plane))
-    linear = freeform.deform(plane, freeform.Edit.from_dict(dict(d, handles=handles, deformation="linear"), plane))
-    gap = np.abs(linear - fixed_point).max()
-    assert gap > 0.01
-    assert np.abs(out - fixed_point).max() <= 0.1 * gap
-    assert np.abs(cold - fixed_point).max() <= 0.1 * gap
-    with pytest.raises(ValueError, match="budget_ms must be > 0"):
-        solver.refine(out, [t], budget_ms=0.0)
-    lin = freeform.EditSolver(plane, freeform.Edit.from_dict(plane_edit_dict(), plane))
-    assert lin.evaluate_within(out, None)["converged"] is True
-
-
 def test_frames_never_wait_and_settle_on_the_models_solution(plane):
     """frame(): the worker thread iterates while each call returns its newest iterate (handle
     exact); settle() waits for the converged shape, which is the cold solve's fixed point."""

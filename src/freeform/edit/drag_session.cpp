@@ -22,7 +22,7 @@ bool same_transforms(std::span<const Eigen::Affine3d> a, std::span<const Eigen::
 
 }  // namespace
 
-DragSession::DragSession(const EditSolver& solver) : solver_(solver), model_(solver.nonlinear()) {
+DragSession::DragSession(const EditSolver& solver) : solver_(solver), model_(solver.iterative_model()) {
   if (model_) worker_ = std::thread([this] { run(); });
 }
 
@@ -107,7 +107,7 @@ DragFrame DragSession::finish(std::span<const Eigen::Affine3d> transforms, Verte
   if (!model_) return f;
   std::unique_lock lock(mutex_);
   const auto done = [&] { return error_ || (front_.settled && same_transforms(transforms, front_.transforms)); };
-  const int cap = std::max(model_->options().max_iterations, 1);
+  const int cap = std::max(model_->max_iterations(), 1);
   while (!settled_.wait_for(lock, std::chrono::milliseconds(20), done)) {
     const double fraction = std::min(1.0, static_cast<double>(front_.state.iterations) / cap);
     lock.unlock();
@@ -150,7 +150,7 @@ void DragSession::run() {
         settled = false;
       } else {
         const NonlinearState& s = model_->iterate(1, std::numeric_limits<double>::infinity(), &interrupt_);
-        settled = s.converged || s.iterations >= model_->options().max_iterations;
+        settled = s.converged || s.iterations >= model_->max_iterations();
       }
       back_.transforms = current;
       back_.x = model_->free_positions();

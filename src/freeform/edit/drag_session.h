@@ -33,8 +33,8 @@ struct DragFrame {
 
 class DragSession {
  public:
-  // `solver` must outlive the session and, while it exists, get no other evaluate(),
-  // evaluate_within() or refine() (problems() of written positions is fine).
+  // `solver` must outlive the session and, while it exists, get no evaluate() (problems() of
+  // written positions is fine).
   explicit DragSession(const EditSolver& solver);
   ~DragSession();  // stops the worker after its current global step and joins it
   DragSession(const DragSession&) = delete;
@@ -66,7 +66,7 @@ class DragSession {
   };
 
   const EditSolver& solver_;
-  NonlinearSolver* model_ = nullptr;  // null: the linear model, no worker
+  IterativeModel* model_ = nullptr;  // null: the linear model, no worker
   std::vector<Eigen::Affine3d> shown_;  // transforms of the last written frame
   std::uint64_t shown_version_ = 0;     // iterate version of the last written frame
   bool shown_any_ = false;

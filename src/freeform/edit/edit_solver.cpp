@@ -68,6 +68,7 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
   const PhaseClock whole;
   stats_.deformation = edit.deformation;
   const bool nonlinear = edit.deformation == Deformation::Nonlinear;
+  if (nonlinear) nonlinear_options_ = edit.nonlinear;
   if (!nonlinear && !edit.allow_unanchored) refuse_unanchored_closed_components(mesh, regions_);
   for (Vertex v : edit.support)
     if (v.idx() >= 0 && v.idx() < mesh.n_vertices() && !mesh.halfedge(v).is_valid()) ++stats_.isolated_ignored;
@@ -89,7 +90,7 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
   bool detail_by_model = nonlinear && shape && shape->overhanging > 0;
   if (edit.multiresolution && !detail_by_model) {
     MultiresOptions options;
-    if (nonlinear) options.nonlinear = edit.nonlinear;
+    if (nonlinear) options.model = nonlinear_base_model(edit.nonlinear);
     try {
       multires_ = std::make_unique<MultiresSolver>(mesh, regions_, edit.settings, options, progress, *shape, &analysis);
     } catch (const SolverError& e) {
@@ -110,7 +111,7 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
     // The plain linear frame scatters rows into the mesh: rows in vertex order (RowOrder).
     bcm_ = std::make_unique<BcmSolver>(mesh, regions_, edit.settings, progress, nullptr, nonlinear,
                                        nonlinear ? RowOrder::BreadthFirst : RowOrder::ByIndex, &analysis);
-    if (nonlinear) nonlinear_ = std::make_unique<NonlinearSolver>(mesh, regions_, *bcm_, mesh.positions(), edit.nonlinear);
+    if (nonlinear) model_ = std::make_unique<NonlinearSolver>(mesh, regions_, *bcm_, mesh.positions(), edit.nonlinear);
   }
   stats_.bcm = bcm().stats();
   if (multires_) stats_.multires = multires_->stats();
@@ -153,14 +154,14 @@ std::vector<Eigen::Affine3d> EditSolver::transforms(const Edit& edit) const {
   return out;
 }
 
-NonlinearSolver* EditSolver::nonlinear() const { return multires_ ? multires_->nonlinear() : nonlinear_.get(); }
+IterativeModel* EditSolver::iterative_model() const { return multires_ ? multires_->model() : model_.get(); }
 
-const NonlinearOptions* EditSolver::nonlinear_options() const { return nonlinear() ? &nonlinear()->options() : nullptr; }
+const NonlinearOptions* EditSolver::nonlinear_options() const {
+  return nonlinear_options_ ? &*nonlinear_options_ : nullptr;
+}
 
-const NonlinearState* EditSolver::nonlinear_state() const { return nonlinear() ? &nonlinear()->state() : nullptr; }
-
-void EditSolver::write_nonlinear(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const {
-  show(transforms, nonlinear()->free_positions(), positions);
+const NonlinearState* EditSolver::nonlinear_state() const {
+  return iterative_model() ? &iterative_model()->state() : nullptr;
 }
 
 void EditSolver::show(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<const BcmSolver::RowMatrixX3d> free_rows,
@@ -185,51 +186,16 @@ void EditSolver::show(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<co
   timings_.reconstruction_ms = 0.0;
 }
 
-NonlinearState EditSolver::evaluate_within(std::span<const Eigen::Affine3d> transforms, double budget_ms,
-                                           VertexData<Vec3>& positions) const {
-  NonlinearSolver* model = nonlinear();
-  if (!model) {
-    evaluate(transforms, positions);
-    return {0, 0.0, true, timings_.evaluate_ms};
-  }
-  start_warm(*model, transforms);
-  const NonlinearState state = model->iterate(model->options().max_iterations, budget_ms);
-  timings_.evaluate_ms = state.ms;
-  write_nonlinear(transforms, positions);
-  return state;
-}
-
-void EditSolver::start_warm(NonlinearSolver& model, std::span<const Eigen::Affine3d> transforms) const {
-  linear_.resize(model.n_free(), 3);
-  bcm().evaluate(transforms, linear_);
-  model.start(transforms, warm_, &linear_);
-  warm_ = true;
-}
-
-NonlinearState EditSolver::refine(std::span<const Eigen::Affine3d> transforms, double budget_ms,
-                                  VertexData<Vec3>& positions) const {
-  NonlinearSolver* model = nonlinear();
-  if (!model || !warm_) return evaluate_within(transforms, budget_ms, positions);
-  if (model->state().converged || model->state().iterations >= model->options().max_iterations) return model->state();
-  const NonlinearState state =
-      model->iterate(model->options().max_iterations - model->state().iterations, budget_ms);
-  timings_.evaluate_ms = state.ms;
-  write_nonlinear(transforms, positions);
-  return state;
-}
-
 void EditSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
                           const Progress& progress) const {
-  if (nonlinear_) {
-    nonlinear_->start(transforms, false);
-    nonlinear_->run(progress);
-    warm_ = true;
-    timings_.evaluate_ms = nonlinear_->state().ms;
-    write_nonlinear(transforms, positions);
+  if (model_) {
+    model_->start(transforms, false, nullptr);
+    model_->run(progress);
+    timings_.evaluate_ms = model_->state().ms;
+    show(transforms, model_->free_positions(), positions);
     return;
   }
   if (multires_) {
-    if (multires_->nonlinear()) warm_ = true;
     multires_->evaluate(transforms, positions, progress);
     timings_ = {multires_->last_timings().base_ms, multires_->last_timings().detail_ms};
     return;

@@ -10,7 +10,9 @@
 #include "freeform/mesh/folds.h"
 #include "freeform/edit/edit.h"
 #include "freeform/mesh/mesh.h"
+#include "freeform/model/iterative_model.h"
 #include "freeform/multires/multires_solver.h"
+#include "freeform/nonlinear/nonlinear_solver.h"
 #include "freeform/regions/regions.h"
 
 #include <Eigen/Geometry>
@@ -83,14 +85,11 @@ class EditSolver {
   // The nonlinear model's options (null for the linear model).
   const NonlinearOptions* nonlinear_options() const;
 
-  // A drag (the editor): the nonlinear model starts from the previous frame's solution and
-  // iterates for at most budget_ms, refine() continues where it stopped; both write the
-  // current iterate like evaluate(). The linear model has nothing to refine: both are
-  // evaluate() and report converged.
-  NonlinearState evaluate_within(std::span<const Eigen::Affine3d> transforms, double budget_ms,
-                                 VertexData<Vec3>& positions) const;
-  NonlinearState refine(std::span<const Eigen::Affine3d> transforms, double budget_ms,
-                        VertexData<Vec3>& positions) const;
+  // The model that iterates (the nonlinear one; with multiresolution MultiresSolver's, on the
+  // base), null for the linear model: what DragSession drives on its worker thread. Its
+  // iterates are shown with show(). Its state belongs to whoever drives it: evaluate() and a
+  // DragSession must not run at once.
+  IterativeModel* iterative_model() const;
   // Writes the touched vertices of `positions` for free rows given in free_vertices() order
   // (multiresolution: the base's, its detail added back) and the movable handles moved by
   // `transforms`; no solve. How DragSession shows an iterate of another thread. Throws
@@ -112,16 +111,10 @@ class EditSolver {
   FoldCounter folds_;
   std::unique_ptr<BcmSolver> bcm_;             // plain linear model
   std::unique_ptr<MultiresSolver> multires_;   // either model with detail (owns its solvers)
-  std::unique_ptr<NonlinearSolver> nonlinear_; // plain nonlinear model (over bcm_'s system)
-  mutable bool warm_ = false;                  // a nonlinear iterate exists to start from
-  mutable BcmSolver::RowMatrixX3d linear_;     // linear BCM's free rows (nonlinear warm starts)
+  std::unique_ptr<IterativeModel> model_;      // plain iterating model (over bcm_'s system)
+  std::optional<NonlinearOptions> nonlinear_options_;  // set for the nonlinear model
   EditStats stats_;
   mutable EditTimings timings_;
-
-  friend class DragSession;  // drives the nonlinear model on its worker thread
-  NonlinearSolver* nonlinear() const;
-  void start_warm(NonlinearSolver& model, std::span<const Eigen::Affine3d> transforms) const;
-  void write_nonlinear(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions) const;
 };
 
 // Throws SolverError naming the first bad vertex if problems.non_finite > 0.

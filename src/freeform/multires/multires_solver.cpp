@@ -38,7 +38,7 @@ const MultiresOptions& validated(const MultiresOptions& o) {
     throw InvalidInput("multiresolution: search_rings must be in [1, 8], got " + std::to_string(o.search_rings));
   if (!(o.barycentric_tolerance >= 0.0 && o.barycentric_tolerance < 0.5))
     throw InvalidInput("multiresolution: barycentric_tolerance must be in [0, 0.5)");
-  if (o.encoding == MultiresOptions::Encoding::VertexFrame && o.nonlinear)
+  if (o.encoding == MultiresOptions::Encoding::VertexFrame && o.model)
     throw InvalidInput("multiresolution: vertex frames ride on the linear base only (the nonlinear base uses normal displacement)");
   return o;
 }
@@ -49,7 +49,7 @@ const MultiresOptions& validated(const MultiresOptions& o) {
 // displacement over the smooth shape where it exists.
 MultiresOptions::Encoding resolved(const MultiresOptions& o, const OperatorShape& shape) {
   if (o.encoding != MultiresOptions::Encoding::Automatic) return o.encoding;
-  if (o.nonlinear) return MultiresOptions::Encoding::Normal;
+  if (o.model) return MultiresOptions::Encoding::Normal;
   return shape.positions.size() > 0 ? MultiresOptions::Encoding::VertexFrame : MultiresOptions::Encoding::Normal;
 }
 
@@ -111,7 +111,7 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
            resolved(validated(options), shape) != MultiresOptions::Encoding::VertexFrame && shape.positions.size() > 0
                ? &shape.positions
                : nullptr,
-           options.nonlinear.has_value(), RowOrder::BreadthFirst, analysis),
+           static_cast<bool>(options.model), RowOrder::BreadthFirst, analysis),
       n_vertices_(mesh.n_vertices()),
       vertex_frames_(resolved(options, shape) == MultiresOptions::Encoding::VertexFrame) {
   stats_.smooth_operator = shape.positions.size() > 0 && !vertex_frames_;
@@ -169,12 +169,10 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
     select_normal_vertices(mesh, local_face, used);
   }
   set_detail_rest_signs(mesh);
-  if (options.nonlinear) {  // the nonlinear base keeps the smooth rest base
+  if (options.model) {  // the iterating base keeps the smooth rest base
     VertexData<Vec3> rest_base = mesh.positions();
     for (int i = 0; i < n_free_; ++i) rest_base[free[static_cast<std::size_t>(i)]] = base_.row(i).transpose();
-    NonlinearOptions on_base = *options.nonlinear;
-    on_base.smooth_rest = true;
-    nonlinear_ = std::make_unique<NonlinearSolver>(mesh, regions, bcm_, rest_base, on_base);
+    model_ = options.model(mesh, regions, bcm_, rest_base);
   }
   stats_.decomposition_ms = ms_since(t0) + shape.ms;
   progress.step("detail", 1.0);
@@ -485,10 +483,10 @@ inline Vec3 MultiresSolver::frame_tangent(int i, const Vec3& n) const {
 void MultiresSolver::update_base(std::span<const Eigen::Affine3d> transforms, Base source,
                                  const Eigen::Ref<const RowMatrixX3d>* given, const Progress& progress) const {
   auto top = base_.topRows(n_free_);
-  if (source == Base::Linear || !nonlinear_) {
+  if (source == Base::Linear || !model_) {
     bcm_.evaluate(transforms, top);  // checks the count and finiteness of the transforms
-  } else if (source == Base::NonlinearSolve) {
-    nonlinear_->solve(transforms, top, progress);  // checks them too
+  } else if (source == Base::ModelSolve) {
+    model_->solve(transforms, top, progress);  // checks them too
   } else {
     if (static_cast<int>(transforms.size()) != bcm_.n_movable())
       throw InvalidInput("reconstruct: got " + std::to_string(transforms.size()) + " transforms for " +
@@ -576,14 +574,14 @@ void MultiresSolver::evaluate(std::span<const Eigen::Affine3d> transforms, Verte
     throw InvalidInput("multiresolution evaluate: positions have " + std::to_string(positions.size()) +
                        " entries, the mesh has " + std::to_string(n_vertices_) + " vertices");
   const auto t0 = Clock::now();
-  update_base(transforms, nonlinear_ ? Base::NonlinearSolve : Base::Linear, nullptr, progress);
+  update_base(transforms, model_ ? Base::ModelSolve : Base::Linear, nullptr, progress);
   timings_.base_ms = ms_since(t0);
   add_detail(positions);
 }
 
 void MultiresSolver::reconstruct(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<const RowMatrixX3d> base,
                                  VertexData<Vec3>& positions) const {
-  if (!nonlinear_) throw InvalidInput("multiresolution reconstruct: the base is linear, use evaluate()");
+  if (!model_) throw InvalidInput("multiresolution reconstruct: the base is linear, use evaluate()");
   if (positions.size() != static_cast<std::size_t>(n_vertices_))
     throw InvalidInput("multiresolution reconstruct: positions have " + std::to_string(positions.size()) +
                        " entries, the mesh has " + std::to_string(n_vertices_) + " vertices");

@@ -21,8 +21,8 @@
 #include "freeform/bcm/settings.h"
 #include "freeform/common/progress.h"
 #include "freeform/mesh/mesh.h"
+#include "freeform/model/iterative_model.h"
 #include "freeform/multires/operator_shape.h"
-#include "freeform/nonlinear/nonlinear_solver.h"
 #include "freeform/regions/regions.h"
 
 #include <Eigen/Core>
@@ -52,9 +52,10 @@ struct MultiresOptions {
   Encoding encoding = Encoding::Automatic;
   int search_rings = 3;  // candidate faces: around vertices within 0..this-1 rings of the nearest base vertex
   double barycentric_tolerance = 1e-4;   // a root counts if every barycentric >= -tolerance
-  // Set: the base follows the nonlinear model (nonlinear/nonlinear_solver.h) instead of the
-  // linear basis; the detail rides along unchanged.
-  std::optional<NonlinearOptions> nonlinear;
+  // Set: the base follows this iterating model (e.g. nonlinear_base_model(), the nonlinear one),
+  // built over the base's system and the smooth rest base, instead of the linear basis; the
+  // detail rides along unchanged.
+  IterativeModelFactory model;
 };
 
 struct MultiresStats {
@@ -119,16 +120,16 @@ class MultiresSolver {
   // No allocation, O(support), parallel (OpenMP static schedule above a size threshold).
   // Uses workspace members: do not call evaluate()/problems() concurrently on one solver.
   // Throws InvalidInput on a wrong transform count, a non-finite transform or a wrong size.
-  // With a nonlinear base: one cold solve of that model (to convergence or its cap), stepping
+  // With an iterating base: one cold solve of that model (to convergence or its cap), stepping
   // `progress` after each iteration.
   void evaluate(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
                 const Progress& progress = {}) const;
 
-  // The nonlinear model of the base (null for the linear base). A drag runs its start/iterate
-  // itself (EditSolver, DragSession) and calls reconstruct() to show an iterate with its detail.
-  NonlinearSolver* nonlinear() const { return nonlinear_.get(); }
-  // Like evaluate(), with the base's free rows given (P x 3, an iterate of nonlinear(); no
-  // solve). Uses the same workspace as evaluate(). Throws InvalidInput without a nonlinear base.
+  // The iterating model of the base (null for the linear base). A drag runs its start/iterate
+  // itself (DragSession) and calls reconstruct() to show an iterate with its detail.
+  IterativeModel* model() const { return model_.get(); }
+  // Like evaluate(), with the base's free rows given (P x 3, an iterate of model(); no solve).
+  // Uses the same workspace as evaluate(). Throws InvalidInput without an iterating base.
   void reconstruct(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<const BcmSolver::RowMatrixX3d> base,
                    VertexData<Vec3>& positions) const;
 
@@ -154,7 +155,7 @@ class MultiresSolver {
   };
 
   BcmSolver bcm_;
-  std::unique_ptr<NonlinearSolver> nonlinear_;
+  std::unique_ptr<IterativeModel> model_;
   MultiresStats stats_;
   int n_vertices_ = 0;
   int n_free_ = 0;
@@ -189,7 +190,7 @@ class MultiresSolver {
   mutable MultiresTimings timings_;
   mutable int flattened_ = 0;  // vertices whose detail the last evaluate() flattened
 
-  enum class Base { Linear, NonlinearSolve, Given };
+  enum class Base { Linear, ModelSolve, Given };
   void update_base(std::span<const Eigen::Affine3d> transforms, Base source,
                    const Eigen::Ref<const RowMatrixX3d>* given = nullptr, const Progress& progress = {}) const;
   void add_detail(VertexData<Vec3>& positions) const;  // the free vertices by encoding, then the handles

@@ -206,8 +206,6 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
 }
 
 NonlinearSolver::~NonlinearSolver() = default;
-NonlinearSolver::NonlinearSolver(NonlinearSolver&&) noexcept = default;
-NonlinearSolver& NonlinearSolver::operator=(NonlinearSolver&&) noexcept = default;
 
 Eigen::Ref<const NonlinearSolver::RowMatrixX3d> NonlinearSolver::free_positions() const {
   return d_->x.topRows(n_free_);
@@ -434,23 +432,14 @@ void NonlinearSolver::fit_rotations() {
   parallel_rows(p, [&](int i) { extract_rotation(d.cov[static_cast<std::size_t>(i)], d.q[static_cast<std::size_t>(i)]); });
 }
 
-void NonlinearSolver::run(const Progress& progress) {
-  // One iteration per call is the same sequence as iterate(cap): the state carries over.
-  const int cap = options_.max_iterations;
-  while (!state_.converged && state_.iterations < cap) {
-    iterate(1);
-    progress.step("nonlinear", static_cast<double>(state_.iterations) / std::max(cap, 1));
-  }
-}
 
-void NonlinearSolver::solve(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out,
-                            const Progress& progress) {
-  if (out.rows() != n_free_)
-    throw InvalidInput("evaluate: output has " + std::to_string(out.rows()) + " rows, expected " +
-                       std::to_string(n_free_));
-  start(transforms, false);
-  run(progress);
-  out = free_positions();
+
+IterativeModelFactory nonlinear_base_model(const NonlinearOptions& options) {
+  NonlinearOptions on_base = options;
+  on_base.smooth_rest = true;
+  return [on_base](const Mesh& mesh, const Regions& regions, BcmSolver& linear, const VertexData<Vec3>& rest) {
+    return std::make_unique<NonlinearSolver>(mesh, regions, linear, rest, on_base);
+  };
 }
 
 }  // namespace freeform

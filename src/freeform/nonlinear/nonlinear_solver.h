@@ -19,13 +19,13 @@
 #include "freeform/bcm/bcm_solver.h"
 #include "freeform/common/progress.h"
 #include "freeform/mesh/mesh.h"
+#include "freeform/model/iterative_model.h"
 #include "freeform/regions/regions.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
 #include <atomic>
-#include <limits>
 #include <memory>
 #include <span>
 #include <vector>
@@ -45,7 +45,7 @@ struct NonlinearOptions {
   // free) needs ~40 to keep its bumps unfolded; on the gallery's limbs a wide fit squeezes the
   // bends (collapsed faces), a narrow one folds and converges worse.
   int rotation_smoothing = -1;
-  // The rest is a smooth multiresolution base (set by MultiresSolver): the automatic width
+  // The rest is a smooth multiresolution base (set by nonlinear_base_model): the automatic width
   // above is the wider one.
   bool smooth_rest = false;
   // Keep the enclosed volume of every closed component with free vertices (times the mean
@@ -69,28 +69,17 @@ struct NonlinearOptions {
   bool operator==(const NonlinearOptions&) const = default;
 };
 
-// The state of the last solve: how far it got and how long it took.
-struct NonlinearState {
-  int iterations = 0;      // global steps (back-substitutions)
-  double step = 0;         // largest vertex move of the last iteration / support extent
-  bool converged = false;  // step <= tolerance
-  double ms = 0;           // wall time of the iterations so far
-};
-
-class NonlinearSolver {
+class NonlinearSolver final : public IterativeModel {
  public:
-  using RowMatrixX3d = BcmSolver::RowMatrixX3d;
-
   // `linear` must have been built with keep_system (its factored system is taken over) from the
   // same mesh and regions. `rest`: the shape the model keeps (#V entries): the mesh's positions,
   // or the multiresolution base. Throws InternalError if `linear` kept no system.
   NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSolver& linear, const VertexData<Vec3>& rest,
                   const NonlinearOptions& options = {});
-  ~NonlinearSolver();
-  NonlinearSolver(NonlinearSolver&&) noexcept;
-  NonlinearSolver& operator=(NonlinearSolver&&) noexcept;
+  ~NonlinearSolver() override;
 
-  int n_free() const { return n_free_; }
+  int n_free() const override { return n_free_; }
+  int max_iterations() const override { return options_.max_iterations; }
   int n_movable() const { return n_movable_; }
   const NonlinearOptions& options() const { return options_; }
 
@@ -102,22 +91,13 @@ class NonlinearSolver {
   // a warm start then also moves the current iterate by the change of linear BCM since the
   // last start: the first-order prediction a DragSession frame shows, as the start of the
   // next iterations.
-  void start(std::span<const Eigen::Affine3d> transforms, bool warm, const RowMatrixX3d* linear = nullptr);
+  void start(std::span<const Eigen::Affine3d> transforms, bool warm, const RowMatrixX3d* linear) override;
   // Runs global/local iterations until converged, `max_iterations` more, or `budget_ms` spent.
   // `interrupt` (another thread's request, e.g. new transforms): checked after each global
   // step; when set, returns before the rotation fit (the iterate is valid, the step counted).
-  const NonlinearState& iterate(int max_iterations, double budget_ms = std::numeric_limits<double>::infinity(),
-                                const std::atomic<bool>* interrupt = nullptr);
-  const NonlinearState& state() const { return state_; }
-  // Free vertices after the last iteration (P x 3, BcmSolver::free_vertices() order).
-  Eigen::Ref<const RowMatrixX3d> free_positions() const;
-
-  // One cold solve to convergence (or options().max_iterations); writes the free rows to `out`.
-  // `progress` is stepped after every iteration ("nonlinear", iterations / cap): a caller can
-  // cancel a long solve there (Python's Ctrl-C); Cancelled leaves `out` untouched.
-  void solve(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<RowMatrixX3d> out, const Progress& progress = {});
-  // Iterations from the last start() to convergence or the cap, stepping `progress` after each.
-  void run(const Progress& progress = {});
+  const NonlinearState& iterate(int max_iterations, double budget_ms, const std::atomic<bool>* interrupt) override;
+  const NonlinearState& state() const override { return state_; }
+  Eigen::Ref<const RowMatrixX3d> free_positions() const override;
 
  private:
   struct Data;
@@ -131,5 +111,9 @@ class NonlinearSolver {
   void keep_volumes();
   void add_membrane(double weight);
 };
+
+// The model for MultiresOptions::model: the nonlinear model on the multiresolution base,
+// which keeps that smooth rest base (NonlinearOptions::smooth_rest).
+IterativeModelFactory nonlinear_base_model(const NonlinearOptions& options);
 
 }  // namespace freeform
