@@ -6,7 +6,8 @@
 // (closed meshes), iterations, converged, time. JSON on stdout, a summary table on stderr.
 //   bench_gallery [--quick] [--no-peer] [--out DIR] [--peer-iterations N] [--seed S] [--linear-multires]
 //                 [--config NAME]... [--case TEXT]
-// --out writes each case's rest and deformed meshes (OFF) for scripts/gallery.sh's contact sheet.
+// --out writes each case's rest and deformed meshes (OFF) for scripts/gallery.sh's contact sheet, and the
+// edit file of the Freeform run written (`freeform deform CASE-rest.off --edit CASE.edit.json` repeats it).
 // --linear-multires: the linear model's multiresolution instead, both encodings (vertex frames,
 // normal displacement) on the same cases with their rotations scaled to a third (edits linear
 // BCM is made for) and on surface patches, judged by the same counts plus the detail heights
@@ -16,6 +17,7 @@
 #include "multires/detail_heights.h"
 #include "nonlinear/gallery_cases.h"
 
+#include "freeform/edit/edit_json.h"
 #include "freeform/edit/edit_solver.h"
 #include "freeform/io/mesh_io.h"
 #include "freeform/mesh/folds.h"
@@ -85,12 +87,19 @@ nlohmann::json quality(const Shape& s, const VertexData<Vec3>& p, bool closed) {
   return j;
 }
 
+// The case's edit with a configuration's settings and the nonlinear model.
+Edit configured(const Edit& edit, const Config& c) {
+  Edit e = edit;
+  e.settings.order = c.order;
+  e.multiresolution = c.multiresolution;
+  if (c.c0) e.settings.smoothness.outer = e.settings.smoothness.inner = 0.0;
+  e.deformation = Deformation::Nonlinear;
+  return e;
+}
+
 nlohmann::json run_freeform(const Shape& shape, const Config& c, bool closed, VertexData<Vec3>& p) {
   Shape s = shape;
-  s.edit.settings.order = c.order;
-  s.edit.multiresolution = c.multiresolution;
-  if (c.c0) s.edit.settings.smoothness.outer = s.edit.settings.smoothness.inner = 0.0;
-  s.edit.deformation = Deformation::Nonlinear;
+  s.edit = configured(shape.edit, c);
   nlohmann::json j = {{"method", "freeform " + c.name}};
   try {
     auto t = Clock::now();
@@ -357,7 +366,10 @@ int main(int argc, char** argv) try {
     VertexData<Vec3> p;
     for (const Config& c : configs) {
       runs.push_back(run_freeform(s, c, closed, p));
-      if (!o.out.empty() && (c.name == "k3" || configs.size() == 1)) write_result(o.out, s.name + "-freeform", s.mesh, p);
+      if (!o.out.empty() && (c.name == "k3" || configs.size() == 1)) {
+        write_result(o.out, s.name + "-freeform", s.mesh, p);
+        write_edit_file((std::filesystem::path(o.out) / (s.name + ".edit.json")).string(), configured(s.edit, c));
+      }
     }
 #ifdef FREEFORM_HAVE_CGAL
     if (o.peer) {

@@ -94,7 +94,9 @@ struct NonlinearSolver::Data {
   RowMatrixX3d x;                    // (P + C) x 3, current
   Eigen::MatrixXd phi;               // P x M: BCM's weight of movable handle m at free vertex i
   std::vector<int> owner;            // per constrained vertex: movable handle or -1
-  std::vector<int> nbr_offset, nbr;  // CSR: 1-ring of each free vertex (local indices)
+  // CSR: 1-ring (local indices) of each row of sys->lap: the free vertices, then the
+  // constrained (k-1)-ring, whose covariances the smoothing passes also sum (fit_rotations()).
+  std::vector<int> nbr_offset, nbr;
   std::vector<double> nbr_w;         // positive cotangent weights for the rotation fit
   double extent = 1.0;
   int smoothing_rings = 0;           // NonlinearOptions::rotation_smoothing, resolved
@@ -166,9 +168,10 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
   for (int m = 0; m < n_movable_; ++m)
     d.phi.col(m) = linear.basis().middleCols(4 * m, 4).rowwise().sum().cwiseMax(0.0).cwiseMin(1.0);
 
-  // The 1-ring of each free vertex with the positive part of the operator's cotangent weights.
+  // The 1-ring of each free vertex and of the constrained (k-1)-ring (the rows of the operator's
+  // Laplacian), with the positive part of its cotangent weights.
   d.nbr_offset.assign(1, 0);
-  for (int i = 0; i < p; ++i) {
+  for (int i = 0; i < d.n_inner; ++i) {
     const std::size_t first = d.nbr.size();
     double sum = 0.0;
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(d.sys->lap, i); it; ++it) {
@@ -192,8 +195,8 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
   d.guide.assign(static_cast<std::size_t>(p), Eigen::Quaterniond::Identity());
   d.scale.assign(static_cast<std::size_t>(p + c), 1.0);
   d.rot.resize(static_cast<std::size_t>(p + c));
-  d.cov.resize(static_cast<std::size_t>(p));
-  d.cov2.resize(static_cast<std::size_t>(p));
+  d.cov.resize(static_cast<std::size_t>(d.n_inner));
+  d.cov2.resize(static_cast<std::size_t>(d.n_inner));
   if (options.preserve_volume) {
     d.volumes.emplace(mesh, rest, local, p, regions);
     if (d.volumes->count() == 0) d.volumes.reset();
@@ -402,7 +405,7 @@ void NonlinearSolver::fit_rotations() {
   const int p = n_free_;
   const double* x = d.x.data();
   const double* xr = d.rest.data();
-  parallel_rows(p, [&](int i) {
+  parallel_rows(d.n_inner, [&](int i) {
     Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
     const Vec3 xi = row(x, i), ri = row(xr, i);
     for (int k = d.nbr_offset[static_cast<std::size_t>(i)]; k < d.nbr_offset[static_cast<std::size_t>(i) + 1]; ++k) {
@@ -416,14 +419,17 @@ void NonlinearSolver::fit_rotations() {
       extract_rotation(d.cov[static_cast<std::size_t>(i)], d.q_local[static_cast<std::size_t>(i)]);
     });
   // Summing the neighbours' covariances ring by ring fits R_i to a wider patch: a smoother
-  // rotation field (like SR-ARAP's smoothness term), fewer iterations, less necking.
+  // rotation field (like SR-ARAP's smoothness term), fewer iterations, less necking. The
+  // constrained (k-1)-ring takes part with its own deformed 1-rings: summed over the free side
+  // alone, the patch of a vertex near the fixed rim would lean toward the rotated interior and
+  // that of a vertex near a handle toward the less rotated one (the gallery, docs/nonlinear.md).
   for (int pass = 0; pass < d.smoothing_rings; ++pass) {
-    parallel_rows(p, [&](int i) {
+    parallel_rows(d.n_inner, [&](int i) {
       const auto ui = static_cast<std::size_t>(i);
       Eigen::Matrix3d s = d.cov[ui];
       for (int k = d.nbr_offset[ui]; k < d.nbr_offset[ui + 1]; ++k) {
         const int j = d.nbr[static_cast<std::size_t>(k)];
-        if (j < p) s += d.cov[static_cast<std::size_t>(j)];
+        if (j < d.n_inner) s += d.cov[static_cast<std::size_t>(j)];
       }
       d.cov2[ui] = s;
     });
