@@ -12,8 +12,10 @@ out=${1:-build/gallery}
 shift || true
 scripts/bootstrap.sh
 scripts/fetch-data.sh
-if ! command -v montage >/dev/null; then
-  apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends imagemagick
+# The sheets' labels need a font ImageMagick finds by name (its default, Helvetica, is not installed).
+font=/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf
+if ! command -v montage >/dev/null || [ ! -f "$font" ]; then
+  apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends imagemagick fonts-dejavu-core
 fi
 cmake --preset release >/dev/null
 cmake --build --preset release --target bench_gallery freeform
@@ -39,7 +41,7 @@ done
 rm -f "$out"/contact-sheet-*.png
 per_page=60
 for ((i = 0, page = 1; i < ${#tiles[@]}; i += per_page, page++)); do
-  montage -label '%t' "${tiles[@]:i:per_page}" -tile 3x -geometry +2+2 -title "rest | Freeform k=3 | CGAL ARAP" \
+  montage -font "$font" -label '%t' "${tiles[@]:i:per_page}" -tile 3x -geometry +2+2 -title "rest | Freeform k=3 | CGAL ARAP" \
     "$out/contact-sheet-$page.png"
 done
 echo "gallery: wrote $out/gallery.json, $out/summary.md and $out/contact-sheet-*.png"
