@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -125,6 +126,10 @@ struct NonlinearSolver::Data {
   bool accelerated = false;          // x is a combination of images, not a plain image
   bool after_accelerated = false;    // so was the iterate before it (`last`)
   double last_step = 0.0;            // the previous iteration's step, which a confirming step must not exceed
+  // The image with the smallest step since the start: what a solve that reaches the cap
+  // ends on (in a cycle the last iterate can be its worst point).
+  RowMatrixX3d best;
+  double best_step = 0.0;
 };
 
 NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSolver& linear,
@@ -274,6 +279,7 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
   if (d.volumes) d.volumes->start(transforms, d.scale, handle_s);
   d.anderson->reset();
   d.fitted = d.accelerated = false;
+  d.best_step = std::numeric_limits<double>::infinity();
   state_ = {};
 }
 
@@ -323,6 +329,18 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
     // where the model settles); a plain step from it must confirm, its move not growing.
     const bool small = state_.step <= options_.tolerance && state_.iterations > 1;
     state_.converged = small && !d.accelerated && (!d.after_accelerated || state_.step <= d.last_step);
+    if (!state_.converged && state_.step < d.best_step && state_.iterations > 1) {
+      d.best_step = state_.step;
+      d.best = d.x.topRows(p);
+    }
+    if (!state_.converged && state_.iterations >= options_.max_iterations && d.best_step < state_.step) {
+      d.x.topRows(p) = d.best;  // at the cap: the best image since the start
+      state_.step = d.best_step;
+      d.fitted = d.accelerated = false;
+      d.anderson->reset();
+      state_.ms = ms0 + std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      break;
+    }
     d.after_accelerated = d.accelerated;
     d.last_step = state_.step;
     const bool interrupted = interrupt && interrupt->load(std::memory_order_relaxed);

@@ -95,6 +95,8 @@ class NonlinearSolver final : public IterativeModel {
   // Runs global/local iterations until converged, `max_iterations` more, or `budget_ms` spent.
   // `interrupt` (another thread's request, e.g. new transforms): checked after each global
   // step; when set, returns before the rotation fit (the iterate is valid, the step counted).
+  // At the solve's cap (options().max_iterations) unconverged, the iterate becomes the image
+  // with the smallest step since the start, and the state reports that step.
   const NonlinearState& iterate(int max_iterations, double budget_ms, const std::atomic<bool>* interrupt) override;
   const NonlinearState& state() const override { return state_; }
   Eigen::Ref<const RowMatrixX3d> free_positions() const override;
