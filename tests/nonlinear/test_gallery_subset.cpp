@@ -85,7 +85,7 @@ TEST(GallerySubset, ElephantLimbsAgainstArap) {
   EXPECT_LE(capped, 1);
 }
 
-// A solve that reaches its cap ends on the best plain image it made, not on the last iterate
+// A solve that reaches its cap ends on the best image it made, not on the last iterate
 // (docs/nonlinear.md, "What the gallery found": the capped runs cycle, and their last iterate
 // can be the worst point of the cycle). Capped after 5, 10, 15 and 20 iterations, each of the
 // elephant's edits then reports a step that never grows with the cap: each solve repeats the

@@ -24,7 +24,8 @@ namespace freeform {
 // How far the iterations since the last start() got.
 struct NonlinearState {
   int iterations = 0;      // global steps (back-substitutions)
-  double step = 0;         // largest vertex move of the last iteration / support extent
+  // Largest vertex move of the last iteration / support extent (at the cap: of the iterate returned).
+  double step = 0;
   bool converged = false;  // step <= tolerance
   double ms = 0;           // wall time of the iterations so far
 };
