@@ -11,6 +11,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <map>
 #include <memory>
 
@@ -88,6 +90,35 @@ void BM_MultiresReconstructNormalEncoding(benchmark::State& state) {
   state.counters["overlaps"] = pr.overlaps;
 }
 
+// Both encodings alternated frame by frame, so that both see the same machine (this VM's speed
+// drifts by half within seconds): per-frame medians and tenth percentiles, and their ratio.
+void BM_MultiresEncodingsAlternated(benchmark::State& state) {
+  Setup& s = setup(static_cast<int>(state.range(0)));
+  const std::vector<Eigen::Affine3d> transforms{bend()};
+  VertexData<Vec3> positions = s.mesh.positions();
+  std::vector<double> frames, normal;
+  const auto ms = [](auto f) {
+    const auto t0 = std::chrono::steady_clock::now();
+    f();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  };
+  for (auto _ : state) {
+    frames.push_back(ms([&] { s.solver->evaluate(transforms, positions); }));
+    normal.push_back(ms([&] { s.normal_encoding->evaluate(transforms, positions); }));
+    benchmark::DoNotOptimize(positions.raw().data());
+  }
+  const auto quantile = [](std::vector<double> v, double q) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1)), v.end());
+    return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
+  };
+  state.counters["frames_median_ms"] = quantile(frames, 0.5);
+  state.counters["normal_median_ms"] = quantile(normal, 0.5);
+  state.counters["frames_p10_ms"] = quantile(frames, 0.1);
+  state.counters["normal_p10_ms"] = quantile(normal, 0.1);
+  state.counters["ratio_median"] = quantile(frames, 0.5) / quantile(normal, 0.5);
+  state.counters["ratio_p10"] = quantile(frames, 0.1) / quantile(normal, 0.1);
+}
+
 // Plain BCM evaluate on the same setup, for the cost of the detail on top of it.
 void BM_BcmEvaluateSameSetup(benchmark::State& state) {
   Setup& s = setup(static_cast<int>(state.range(0)));
@@ -104,6 +135,7 @@ void BM_BcmEvaluateSameSetup(benchmark::State& state) {
 // n = 222: 49.7k vertices, 35.1k free; n = 650: 424k vertices, 300k free.
 BENCHMARK(BM_MultiresReconstruct)->Arg(222)->Arg(650)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_MultiresReconstructNormalEncoding)->Arg(222)->Arg(650)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_MultiresEncodingsAlternated)->Arg(222)->Arg(650)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_BcmEvaluateSameSetup)->Arg(222)->Arg(650)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

@@ -153,11 +153,13 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
   codes_.resize(static_cast<std::size_t>(n_free_));
   min_ratio_.assign(static_cast<std::size_t>(n_free_), -std::numeric_limits<double>::infinity());
   rest_sign_.assign(static_cast<std::size_t>(n_free_), 0);
-  if (vertex_frames_)
+  if (vertex_frames_) {
     encode_vertex_frames(mesh, local, local_face);
-  else
+    tangent_.resize(n_free_, 3);
+  } else {
     encode_displaced(mesh, LocalAdjacency(mesh, local_global_, dist, local, local_face, options.search_rings),
                      resolved(options, shape) == MultiresOptions::Encoding::Normal, options, progress);
+  }
   progress.check();
   count_codes();
   if (!vertex_frames_) {  // per frame, normals are needed at the corners of the encodings only
@@ -453,7 +455,7 @@ void MultiresSolver::encode_vertex_frames(const Mesh& mesh, const VertexData<int
       multires::stencil_weights(center, n, count,
                                 [&](int j) { return Vec3(Map3(B + 3 * ring_[static_cast<std::size_t>(first + j)])); },
                                 ring_weight_.data() + 2 * first);
-      const Vec3 t = frame_tangent(i, n);
+      const Vec3 t = multires::normalized_or_zero(frame_tangent_direction(i, n));
       const Vec3 d = mesh.position(Vertex(local_global_[static_cast<std::size_t>(i)])) - center;
       Code& code = codes_[static_cast<std::size_t>(i)];
       const bool framed = n.squaredNorm() > 0.5 && t.squaredNorm() > 0.5;
@@ -463,7 +465,7 @@ void MultiresSolver::encode_vertex_frames(const Mesh& mesh, const VertexData<int
   });
 }
 
-inline Vec3 MultiresSolver::frame_tangent(int i, const Vec3& n) const {
+inline Vec3 MultiresSolver::frame_tangent_direction(int i, const Vec3& n) const {
   const double* b = base_.data();
   const double cx = b[3 * i], cy = b[3 * i + 1], cz = b[3 * i + 2];
   double gx = 0, gy = 0, gz = 0, hx = 0, hy = 0, hz = 0;  // scalar: Eigen's temporaries cost a third of the loop
@@ -477,7 +479,7 @@ inline Vec3 MultiresSolver::frame_tangent(int i, const Vec3& n) const {
     gx += wx * ex, gy += wx * ey, gz += wx * ez;
     hx += wy * ex, hy += wy * ey, hz += wy * ez;
   }
-  return multires::tangent_from_moments(Vec3(gx, gy, gz), Vec3(hx, hy, hz), n);
+  return multires::tangent_direction(Vec3(gx, gy, gz), Vec3(hx, hy, hz), n);
 }
 
 void MultiresSolver::update_base(std::span<const Eigen::Affine3d> transforms, Base source,
@@ -597,7 +599,14 @@ void MultiresSolver::add_vertex_frame_detail(Vec3* out) const {
   const double* nn = normal_.data();
   const Code* codes = codes_.data();
   const int* glob = local_global_.data();
+  double* tp = tangent_.data();
   parallel_for(n_free_, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    // Two passes: the ring's moments, then the normalization and placement, whose square root and
+    // divisions then overlap across vertices instead of waiting on each vertex's gather.
+    for (auto i = static_cast<int>(lo); i < static_cast<int>(hi); ++i) {
+      const Vec3 t = frame_tangent_direction(i, Map3(nn + 3 * i));
+      tp[3 * i] = t[0], tp[3 * i + 1] = t[1], tp[3 * i + 2] = t[2];
+    }
     for (auto i = static_cast<int>(lo); i < static_cast<int>(hi); ++i) {
       const Code& c = codes[i];
       const Vec3 center = Map3(b + 3 * i);
@@ -605,7 +614,7 @@ void MultiresSolver::add_vertex_frame_detail(Vec3* out) const {
         out[glob[i]] = center + Vec3(c.w[0], c.w[1], c.w[2]);
         continue;
       }
-      const Vec3 n = Map3(nn + 3 * i), t = frame_tangent(i, n);
+      const Vec3 n = Map3(nn + 3 * i), t = multires::normalized_or_zero(Map3(tp + 3 * i));
       out[glob[i]] = center + c.w[0] * t + c.w[1] * n.cross(t) + c.w[2] * n;
     }
   });

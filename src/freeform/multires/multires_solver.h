@@ -187,6 +187,7 @@ class MultiresSolver {
   mutable RowMatrixX3d base_;     // local positions, rows = local vertices
   mutable RowMatrixX3d fnormal_;  // per normal face (area weighted)
   mutable RowMatrixX3d normal_;   // per local vertex (unit; rows of other vertices unused)
+  mutable RowMatrixX3d tangent_;  // per free vertex with vertex frames: P g - n x h, not normalized
   mutable MultiresTimings timings_;
   mutable int flattened_ = 0;  // vertices whose detail the last evaluate() flattened
 
@@ -212,7 +213,7 @@ class MultiresSolver {
   void count_codes();
   void set_detail_rest_signs(const Mesh& mesh);
   // The tangent of free vertex i's frame on the current base (inlined into the per-frame loop).
-  [[gnu::always_inline]] inline Vec3 frame_tangent(int i, const Vec3& n) const;
+  [[gnu::always_inline]] inline Vec3 frame_tangent_direction(int i, const Vec3& n) const;
   // Rebuilds free vertex i with its height lowered by multires::safe_height; 1 if it was lowered.
   int flatten_detail(int i, Vec3* out) const;
   void update_normals() const;

@@ -34,12 +34,14 @@ void stencil_weights(const Vec3& center, const Vec3& n, int count, Position posi
   }
 }
 
-// The tangent: the image of the rest x axis under the Procrustes rotation of the map from the
-// rest tangent plane to the current base, P g - n x h, normalized (zero if the ring collapsed).
-inline Vec3 tangent_from_moments(const Vec3& g, const Vec3& h, const Vec3& n) {
-  const Vec3 t = g - g.dot(n) * n - n.cross(h);
+// The tangent's direction: the image of the rest x axis under the Procrustes rotation of the map
+// from the rest tangent plane to the current base, P g - n x h; normalized_or_zero makes it the
+// tangent (zero if the ring collapsed).
+inline Vec3 tangent_direction(const Vec3& g, const Vec3& h, const Vec3& n) { return g - g.dot(n) * n - n.cross(h); }
+
+inline Vec3 normalized_or_zero(const Vec3& t) {
   const double tt = t.squaredNorm();
-  return tt > 0.0 ? Vec3(t / std::sqrt(tt)) : Vec3::Zero();
+  return tt > 0.0 ? Vec3(t * (1.0 / std::sqrt(tt))) : Vec3::Zero();
 }
 
 }  // namespace freeform::multires
