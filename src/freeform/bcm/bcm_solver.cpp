@@ -6,6 +6,7 @@
 #include "freeform/bcm/bcm_system.h"
 #include "freeform/bcm/refinement.h"
 
+#include "freeform/common/cpu_features.h"
 #include "freeform/common/error.h"
 #include "freeform/common/parallel.h"
 #include "freeform/mesh/bounds.h"
@@ -61,11 +62,7 @@ template <int NH4, class Store>
                                             const Store& store) {
   rows_body<NH4>(lo, hi, n4, b, c0, g4, store);
 }
-// __builtin_cpu_init first: this runs in a static initializer, maybe before libgcc's own.
-const bool kHasAvx2 = [] {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-}();
+const bool kHasAvx2 = cpu_has_avx2_fma();
 #else
 constexpr bool kHasAvx2 = false;
 #endif

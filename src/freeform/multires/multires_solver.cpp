@@ -155,7 +155,6 @@ MultiresSolver::MultiresSolver(const Mesh& mesh, const Regions& regions, const B
   rest_sign_.assign(static_cast<std::size_t>(n_free_), 0);
   if (vertex_frames_) {
     encode_vertex_frames(mesh, local, local_face);
-    tangent_.resize(n_free_, 3);
   } else {
     encode_displaced(mesh, LocalAdjacency(mesh, local_global_, dist, local, local_face, options.search_rings),
                      resolved(options, shape) == MultiresOptions::Encoding::Normal, options, progress);
@@ -445,17 +444,23 @@ void MultiresSolver::encode_vertex_frames(const Mesh& mesh, const VertexData<int
   select_normal_vertices(mesh, local_face, free_only);
   update_normals();  // the per-frame normals, here at rest
   ring_weight_.resize(2 * ring_.size());
+  tangent_.resize(n_free_, 3);
   const double* B = base_.data();
   const double* N = normal_.data();
+  const multires::RingStencil stencil = ring_stencil();
   parallel_for(n_free_, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
     for (auto i = static_cast<int>(lo); i < static_cast<int>(hi); ++i) {
       const int first = ring_offset_[static_cast<std::size_t>(i)];
-      const int count = ring_offset_[static_cast<std::size_t>(i) + 1] - first;
-      const Vec3 center = Map3(B + 3 * i), n = Map3(N + 3 * i);
-      multires::stencil_weights(center, n, count,
+      multires::stencil_weights(Vec3(Map3(B + 3 * i)), Vec3(Map3(N + 3 * i)), ring_offset_[static_cast<std::size_t>(i) + 1] - first,
                                 [&](int j) { return Vec3(Map3(B + 3 * ring_[static_cast<std::size_t>(first + j)])); },
                                 ring_weight_.data() + 2 * first);
-      const Vec3 t = multires::normalized_or_zero(frame_tangent_direction(i, n));
+    }
+    // The rest tangents by the per-frame kernel itself: the identity edit reproduces the input.
+    multires::ring_tangents(stencil, B, static_cast<int>(base_.rows()), N, static_cast<int>(lo), static_cast<int>(hi),
+                            tangent_.data());
+    for (auto i = static_cast<int>(lo); i < static_cast<int>(hi); ++i) {
+      const Vec3 center = Map3(B + 3 * i), n = Map3(N + 3 * i);
+      const Vec3 t = multires::normalized_or_zero(tangent_.row(i).transpose());
       const Vec3 d = mesh.position(Vertex(local_global_[static_cast<std::size_t>(i)])) - center;
       Code& code = codes_[static_cast<std::size_t>(i)];
       const bool framed = n.squaredNorm() > 0.5 && t.squaredNorm() > 0.5;
@@ -463,23 +468,21 @@ void MultiresSolver::encode_vertex_frames(const Mesh& mesh, const VertexData<int
       code.w = framed ? std::array<double, 3>{d.dot(t), d.dot(n.cross(t)), d.dot(n)} : std::array<double, 3>{d[0], d[1], d[2]};
     }
   });
+  // The per-frame loop reads the frame coordinates packed; the few vertices without a frame are
+  // placed by their offset after it.
+  frame_w_.assign(3 * static_cast<std::size_t>(n_free_), 0.0);
+  unframed_.clear();
+  for (int i = 0; i < n_free_; ++i) {
+    const Code& c = codes_[static_cast<std::size_t>(i)];
+    if (c.corner[1] < 0)
+      unframed_.push_back(i);
+    else
+      std::copy(c.w.begin(), c.w.end(), frame_w_.begin() + 3 * i);
+  }
 }
 
-inline Vec3 MultiresSolver::frame_tangent_direction(int i, const Vec3& n) const {
-  const double* b = base_.data();
-  const double cx = b[3 * i], cy = b[3 * i + 1], cz = b[3 * i + 2];
-  double gx = 0, gy = 0, gz = 0, hx = 0, hy = 0, hz = 0;  // scalar: Eigen's temporaries cost a third of the loop
-  const int* ring = ring_.data();
-  const float* w = ring_weight_.data();
-  const int last = ring_offset_[static_cast<std::size_t>(i) + 1];
-  for (int j = ring_offset_[static_cast<std::size_t>(i)]; j < last; ++j) {
-    const double* r = b + 3 * ring[j];
-    const double ex = r[0] - cx, ey = r[1] - cy, ez = r[2] - cz;
-    const double wx = w[2 * j], wy = w[2 * j + 1];
-    gx += wx * ex, gy += wx * ey, gz += wx * ez;
-    hx += wy * ex, hy += wy * ey, hz += wy * ez;
-  }
-  return multires::tangent_direction(Vec3(gx, gy, gz), Vec3(hx, hy, hz), n);
+multires::RingStencil MultiresSolver::ring_stencil() const {
+  return {ring_offset_.data(), ring_.data(), ring_weight_.data()};
 }
 
 void MultiresSolver::update_base(std::span<const Eigen::Affine3d> transforms, Base source,
@@ -597,27 +600,20 @@ void MultiresSolver::add_vertex_frame_detail(Vec3* out) const {
   update_normals();
   const double* b = base_.data();
   const double* nn = normal_.data();
-  const Code* codes = codes_.data();
-  const int* glob = local_global_.data();
   double* tp = tangent_.data();
+  const multires::RingStencil stencil = ring_stencil();
+  const auto rows = static_cast<int>(base_.rows());
+  const multires::FramePlacement place{b, rows, nn, rows, tp, n_free_, frame_w_.data(), local_global_.data()};
   parallel_for(n_free_, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
     // Two passes: the ring's moments, then the normalization and placement, whose square root and
-    // divisions then overlap across vertices instead of waiting on each vertex's gather.
-    for (auto i = static_cast<int>(lo); i < static_cast<int>(hi); ++i) {
-      const Vec3 t = frame_tangent_direction(i, Map3(nn + 3 * i));
-      tp[3 * i] = t[0], tp[3 * i + 1] = t[1], tp[3 * i + 2] = t[2];
-    }
-    for (auto i = static_cast<int>(lo); i < static_cast<int>(hi); ++i) {
-      const Code& c = codes[i];
-      const Vec3 center = Map3(b + 3 * i);
-      if (c.corner[1] < 0) {
-        out[glob[i]] = center + Vec3(c.w[0], c.w[1], c.w[2]);
-        continue;
-      }
-      const Vec3 n = Map3(nn + 3 * i), t = multires::normalized_or_zero(Map3(tp + 3 * i));
-      out[glob[i]] = center + c.w[0] * t + c.w[1] * n.cross(t) + c.w[2] * n;
-    }
+    // division then overlap across vertices instead of waiting on each vertex's gather.
+    multires::ring_tangents(stencil, b, rows, nn, static_cast<int>(lo), static_cast<int>(hi), tp);
+    multires::place_in_frames(place, static_cast<int>(lo), static_cast<int>(hi), out);
   });
+  for (int i : unframed_) {
+    const Code& c = codes_[static_cast<std::size_t>(i)];
+    out[local_global_[static_cast<std::size_t>(i)]] = Map3(b + 3 * i) + Vec3(c.w[0], c.w[1], c.w[2]);
+  }
 }
 
 void MultiresSolver::add_detail(VertexData<Vec3>& positions) const {

@@ -23,6 +23,7 @@
 #include "freeform/mesh/mesh.h"
 #include "freeform/model/iterative_model.h"
 #include "freeform/multires/operator_shape.h"
+#include "freeform/multires/vertex_frame.h"
 #include "freeform/regions/regions.h"
 
 #include <Eigen/Core>
@@ -176,6 +177,8 @@ class MultiresSolver {
   // same values, so the identity stays exact).
   std::vector<int> ring_offset_, ring_;
   std::vector<float> ring_weight_;
+  std::vector<double> frame_w_;  // vertex frames: each free vertex's frame coordinates (0 where unframed)
+  std::vector<int> unframed_;    // vertex frames: free vertices placed by their plain offset
   // Per free vertex: det / a0 along the height ray may not fall below this (multires::safe_height),
   // a fixed fraction of its rest value so the rest never flattens; -inf: never flattened.
   std::vector<double> min_ratio_;
@@ -212,8 +215,7 @@ class MultiresSolver {
   void encode_in_frame(int i, const Vec3& x, int start, const LocalAdjacency& adjacency);
   void count_codes();
   void set_detail_rest_signs(const Mesh& mesh);
-  // The tangent of free vertex i's frame on the current base (inlined into the per-frame loop).
-  [[gnu::always_inline]] inline Vec3 frame_tangent_direction(int i, const Vec3& n) const;
+  multires::RingStencil ring_stencil() const;  // the free vertices' rings, for their frames' tangents
   // Rebuilds free vertex i with its height lowered by multires::safe_height; 1 if it was lowered.
   int flatten_detail(int i, Vec3* out) const;
   void update_normals() const;

@@ -44,4 +44,39 @@ inline Vec3 normalized_or_zero(const Vec3& t) {
   return tt > 0.0 ? Vec3(t * (1.0 / std::sqrt(tt))) : Vec3::Zero();
 }
 
+// Each vertex's ring for the tangent: ring[offset[i] .. offset[i + 1]) are vertex i's neighbours
+// (rows of the base) and weight[2 j], weight[2 j + 1] their stencil_weights.
+struct RingStencil {
+  const int* offset;
+  const int* ring;
+  const float* weight;
+};
+
+// Which compiled loop runs: the widest the CPU has (Auto), or the build's baseline (for tests
+// that compare the two).
+enum class FrameKernel { Auto, Baseline };
+
+// For vertices lo..hi-1: t_i = tangent_direction(g_i, h_i, n_i), not normalized, with the ring
+// moments g_i, h_i on the base b (rows x 3, row-major) and unit normals n (same layout).
+void ring_tangents(const RingStencil& s, const double* b, int rows, const double* n, int lo, int hi, double* t,
+                   FrameKernel kernel = FrameKernel::Auto);
+
+// Where the detail goes: base rows b, unit normals n and tangent directions t (row-major x 3,
+// with their row counts), the frame coordinates w (3 a vertex: along t, n x t and n), and each
+// vertex's index among the output's.
+struct FramePlacement {
+  const double* b;
+  int rows_b;
+  const double* n;
+  int rows_n;
+  const double* t;
+  int rows_t;
+  const double* w;
+  const int* global;
+};
+
+// out[global[i]] = b_i + w_i0 t_i + w_i1 n_i x t_i + w_i2 n_i for vertices lo..hi-1, with t_i
+// the normalized tangent direction (zero where it vanished).
+void place_in_frames(const FramePlacement& f, int lo, int hi, Vec3* out, FrameKernel kernel = FrameKernel::Auto);
+
 }  // namespace freeform::multires
