@@ -96,8 +96,9 @@ void ring_tangents(const RingStencil& s, const double* b, int rows, const double
     tangents_avx2(s, b, rows, n, lo, hi, t);
     return;
   }
+#else
+  (void)rows, (void)kernel;
 #endif
-  (void)rows;
   tangents_baseline(s, b, n, lo, hi, t);
 }
 
@@ -107,6 +108,8 @@ void place_in_frames(const FramePlacement& f, int lo, int hi, Vec3* out, FrameKe
     place_avx2(f, lo, hi, out);
     return;
   }
+#else
+  (void)kernel;
 #endif
   place_baseline(f, lo, hi, out);
 }
