@@ -2,7 +2,8 @@
 // (gallery_cases.h), against CGAL's Surface_mesh_deformation (ARAP, spokes and rims, and
 // SR-ARAP) iterated toward convergence on the same support, handles and transforms, in the same
 // run. Per case and method: folded edges, collapsed faces (smallest singular value of the face's
-// deformation gradient < 0.5), min sigma, the largest dihedral increase, the volume ratio
+// deformation gradient < 0.5), min sigma, the support's mean compressive strain (rest-area
+// weighted max(0, -ln sigma_min)) and its share of area halved, the largest dihedral increase, the volume ratio
 // (closed meshes), iterations, converged, time. JSON on stdout, a summary table on stderr.
 //   bench_gallery [--quick] [--no-peer] [--out DIR] [--peer-iterations N] [--seed S] [--linear-multires]
 //                 [--config NAME]... [--case TEXT]
@@ -64,10 +65,22 @@ nlohmann::json quality(const Shape& s, const VertexData<Vec3>& p, bool closed) {
   const VertexData<Vec3>& rest = m.positions();
   int collapsed = 0;
   double min_sv = std::numeric_limits<double>::infinity();
+  // Over the support's faces (rest area weighted): the mean compressive strain max(0, -ln
+  // sigma_min), how much the faces shrink however it is spread, and the share of area halved.
+  std::vector<char> in_support(m.n_vertices(), 0);
+  for (Vertex v : s.edit.support) in_support[static_cast<std::size_t>(v.idx())] = 1;
+  double area = 0, compression = 0, halved = 0;
   for (Face f : m.faces()) {
-    const double sv = test::face_min_singular_value(m, rest, p, f);
-    if (!(sv >= kCollapsedSigma)) ++collapsed;
-    min_sv = std::min(min_sv, std::isfinite(sv) ? sv : 0.0);
+    const Eigen::Vector2d sv = test::face_singular_values(m, rest, p, f);
+    if (!(sv[1] >= kCollapsedSigma)) ++collapsed;
+    min_sv = std::min(min_sv, std::isfinite(sv[1]) ? sv[1] : 0.0);
+    const auto c = m.vertices(f);
+    if (!std::any_of(c.begin(), c.end(), [&](Vertex v) { return in_support[static_cast<std::size_t>(v.idx())] != 0; }))
+      continue;
+    const double a = 0.5 * (rest[c[1]] - rest[c[0]]).cross(rest[c[2]] - rest[c[0]]).norm();
+    area += a;
+    compression += a * (sv[1] > 0.0 ? std::max(0.0, -std::log(sv[1])) : std::log(1e9));  // inverted: a large strain
+    if (!(sv[0] * sv[1] >= 0.5)) halved += a;
   }
   auto dihedral = [&](const VertexData<Vec3>& x, Halfedge h) {
     const Vertex a = m.from_vertex(h), b = m.to_vertex(h);
@@ -82,6 +95,8 @@ nlohmann::json quality(const Shape& s, const VertexData<Vec3>& p, bool closed) {
   nlohmann::json j = {{"folded_edges", count_folded_edges(m, rest, p)},
                       {"collapsed_faces", collapsed},
                       {"min_sigma", min_sv},
+                      {"compression", area > 0 ? compression / area : 0.0},
+                      {"halved_area", area > 0 ? halved / area : 0.0},
                       {"max_dihedral_increase_deg", worst * 180.0 / std::numbers::pi}};
   if (closed) j["volume_ratio"] = test::volume(m, p) / test::volume(m, rest);
   return j;

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Summarizes bench_gallery's JSON: per method the totals of folded edges and collapsed faces,
-unconverged runs, the slowest run, and per Freeform method the cases worse than the peer
+the mean over cases of the support's compressive strain and halved area, unconverged runs, the slowest run, and per Freeform method the cases worse than the peer
 (CGAL ARAP) by more than 2 folded edges or 2 collapsed faces, worst first.
     scripts/gallery-summary.py gallery.json [--peer "CGAL ARAP"]"""
 import json
@@ -24,14 +24,16 @@ def main() -> int:
         runs = {r["method"]: r for r in case["runs"]}
         ref = runs.get(peer)
         for name, r in runs.items():
-            m = methods.setdefault(name, {"folds": 0, "collapsed": 0, "errors": 0, "unconverged": 0,
-                                          "max_ms": 0.0, "worse": [], "cases": 0})
+            m = methods.setdefault(name, {"folds": 0, "collapsed": 0, "compression": 0.0, "halved": 0.0,
+                                          "errors": 0, "unconverged": 0, "max_ms": 0.0, "worse": [], "cases": 0})
             m["cases"] += 1
             if "error" in r:
                 m["errors"] += 1
                 continue
             m["folds"] += r["folded_edges"]
             m["collapsed"] += r["collapsed_faces"]
+            m["compression"] += r.get("compression", 0.0)
+            m["halved"] += r.get("halved_area", 0.0)
             m["unconverged"] += 0 if r.get("converged", True) else 1
             m["max_ms"] = max(m["max_ms"], r.get("precompute_ms", 0) + r.get("solve_ms", 0))
             if ref and "error" not in ref and name != peer:
@@ -40,12 +42,14 @@ def main() -> int:
                 if df > 2 or dc > 2 or (ref["folded_edges"] == 0 and r["folded_edges"] > 0):
                     m["worse"].append((max(df, dc), case["case"], r["folded_edges"], ref["folded_edges"],
                                        r["collapsed_faces"], ref["collapsed_faces"]))
-    print(f"| method | cases | folded edges | collapsed faces | worse than {peer} | unconverged | errors | slowest (ms) |")
-    print("|---|---|---|---|---|---|---|---|")
+    print(f"| method | cases | folded edges | collapsed faces | mean compression | mean halved area | "
+          f"worse than {peer} | unconverged | errors | slowest (ms) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for name, m in methods.items():
         worse = "" if name == peer else str(len(m["worse"]))
-        print(f"| {name} | {m['cases']} | {m['folds']} | {m['collapsed']} | {worse} | {m['unconverged']} | "
-              f"{m['errors']} | {m['max_ms']:.0f} |")
+        ok = max(m["cases"] - m["errors"], 1)
+        print(f"| {name} | {m['cases']} | {m['folds']} | {m['collapsed']} | {m['compression'] / ok:.4f} | "
+              f"{m['halved'] / ok:.4f} | {worse} | {m['unconverged']} | {m['errors']} | {m['max_ms']:.0f} |")
     for name, m in methods.items():
         if not m["worse"]:
             continue

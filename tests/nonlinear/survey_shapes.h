@@ -128,10 +128,10 @@ inline double volume(const Mesh& mesh, const VertexData<Vec3>& p) {
   return v;
 }
 
-// Smallest singular value of face f's deformation gradient (rest triangle -> deformed), the
-// collapse measure: 1 for rigid motions, < 1 where the face shrinks in some direction.
-inline double face_min_singular_value(const Mesh& mesh, const VertexData<Vec3>& rest, const VertexData<Vec3>& p,
-                                      Face f) {
+// Singular values (largest first) of face f's deformation gradient (rest triangle -> deformed):
+// both 1 for rigid motions; their product is the face's area ratio.
+inline Eigen::Vector2d face_singular_values(const Mesh& mesh, const VertexData<Vec3>& rest, const VertexData<Vec3>& p,
+                                            Face f) {
   const auto c = mesh.vertices(f);
   const Vec3 e1 = rest[c[1]] - rest[c[0]], e2 = rest[c[2]] - rest[c[0]];
   const Vec3 u = e1.normalized(), w = (e2 - e2.dot(u) * u).normalized();
@@ -140,7 +140,13 @@ inline double face_min_singular_value(const Mesh& mesh, const VertexData<Vec3>& 
   Eigen::Matrix<double, 3, 2> d;
   d << p[c[1]] - p[c[0]], p[c[2]] - p[c[0]];
   const Eigen::Matrix<double, 3, 2> j = d * r.inverse();
-  return Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(j).singularValues()[1];
+  return Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(j).singularValues();
+}
+
+// The smallest of them, the collapse measure: < 1 where the face shrinks in some direction.
+inline double face_min_singular_value(const Mesh& mesh, const VertexData<Vec3>& rest, const VertexData<Vec3>& p,
+                                      Face f) {
+  return face_singular_values(mesh, rest, p, f)[1];
 }
 
 // The smallest over all faces.
