@@ -451,7 +451,9 @@ void MultiresSolver::encode_vertex_frames(const Mesh& mesh, const VertexData<int
   parallel_for(n_free_, kParallelRows / 2, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
     for (auto i = static_cast<int>(lo); i < static_cast<int>(hi); ++i) {
       const int first = ring_offset_[static_cast<std::size_t>(i)];
-      multires::stencil_weights(Vec3(Map3(B + 3 * i)), Vec3(Map3(N + 3 * i)), ring_offset_[static_cast<std::size_t>(i) + 1] - first,
+      const int count = ring_offset_[static_cast<std::size_t>(i) + 1] - first;
+      const Vec3 center = Map3(B + 3 * i), n = Map3(N + 3 * i);
+      multires::stencil_weights(center, n, count,
                                 [&](int j) { return Vec3(Map3(B + 3 * ring_[static_cast<std::size_t>(first + j)])); },
                                 ring_weight_.data() + 2 * first);
     }
