@@ -8,6 +8,7 @@
 #include "freeform/common/parallel.h"
 #include "freeform/common/serial_openmp.h"
 #include "freeform/numerics/nested_dissection.h"
+#include "freeform/numerics/supernodal_solve.h"
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
@@ -21,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <variant>
@@ -88,6 +90,17 @@ struct Cholmod : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
     this->m_factorizationIsOk = false;
   }
   std::string ordering;  // how the analysis ordered the rows
+  // The factor in SupernodalSolve's terms; nullopt unless it is a supernodal LL' with int indices.
+  std::optional<SupernodalFactor> supernodal() const {
+    const cholmod_factor* l = this->m_cholmodFactor;
+    if (!l || !l->is_super || !l->is_ll || l->itype != CHOLMOD_INT || l->xtype != CHOLMOD_REAL ||
+        l->dtype != CHOLMOD_DOUBLE || !l->x)
+      return std::nullopt;
+    return SupernodalFactor{static_cast<int>(l->n), static_cast<int>(l->nsuper), static_cast<const int*>(l->super),
+                            static_cast<const int*>(l->pi), static_cast<const int*>(l->px),
+                            static_cast<const int*>(l->s), static_cast<const double*>(l->x),
+                            static_cast<const int*>(l->Perm)};
+  }
 };
 using CholmodPtr = std::unique_ptr<Cholmod>;  // Eigen's CHOLMOD objects cannot be moved
 // 64-bit indices (umfpack_dl_*): with 32-bit ones the LU of a 300k-row k = 3 system ran out of
@@ -216,6 +229,7 @@ struct SparseSolver::Impl {
   std::variant<std::monostate, Ldlt, Lu> f;
 #endif
   std::string failure;  // why the preferred solver failed (for the message)
+  std::optional<SupernodalSolve> schedule;  // CHOLMOD's factor solved on several cores
 
   Eigen::VectorXd times(const Eigen::VectorXd& x) const {
     if (lower) return a.selfadjointView<Eigen::Lower>() * x;
@@ -266,6 +280,7 @@ struct SparseSolver::Impl {
         if (s->info() != Eigen::Success || s->cholmod().status < CHOLMOD_OK)
           return "the matrix is singular or not positive definite";
         blas_buffers_reserved = true;
+        if (const auto view = s->supernodal()) schedule.emplace(*view);
         return {};
       }
       case SolverKind::Umfpack: {
@@ -386,7 +401,7 @@ SparseSolver::~SparseSolver() = default;
 SparseSolver::SparseSolver(SparseSolver&&) noexcept = default;
 SparseSolver& SparseSolver::operator=(SparseSolver&&) noexcept = default;
 
-Eigen::MatrixXd SparseSolver::solve(const Eigen::MatrixXd& b, bool check_residual) const {
+Eigen::MatrixXd SparseSolver::solve(const Eigen::MatrixXd& b, bool check_residual, SolveKernel kernel) const {
   if (b.rows() != impl_->a.rows())
     throw InvalidInput("SparseSolver::solve: right-hand side has " + std::to_string(b.rows()) + " rows, expected " +
                        std::to_string(impl_->a.rows()));
@@ -402,9 +417,17 @@ Eigen::MatrixXd SparseSolver::solve(const Eigen::MatrixXd& b, bool check_residua
           // cholmod_solve does not survive every failed workspace allocation: refuse up front.
           const auto solving = [&] { return "solving with a " + std::to_string(b.rows()) + "-row factor"; };
           require_memory(static_cast<std::size_t>(4 * 8 * b.size()), solving);
-          x = s->solve(b);
-          if (s->cholmod().status == CHOLMOD_OUT_OF_MEMORY) throw OutOfMemory("out of memory while " + solving());
-          ok = s->info() == Eigen::Success;
+          const auto view = s->supernodal();
+          std::optional<Eigen::MatrixXd> parallel;
+          if (kernel != SolveKernel::Cholmod && impl_->schedule && impl_->schedule->ok() && view)
+            parallel = impl_->schedule->solve(*view, b, kernel == SolveKernel::Auto);
+          if (parallel) {
+            x = std::move(*parallel);
+          } else {
+            x = s->solve(b);
+            if (s->cholmod().status == CHOLMOD_OUT_OF_MEMORY) throw OutOfMemory("out of memory while " + solving());
+            ok = s->info() == Eigen::Success;
+          }
         } else {
           x = s.solve(b);
           ok = s.info() == Eigen::Success;
@@ -438,6 +461,10 @@ double SparseSolver::relative_residual(const Eigen::MatrixXd& x, const Eigen::Ma
 }
 
 SolverKind SparseSolver::kind() const { return impl_->kind; }
+Eigen::Index SparseSolver::rows() const { return impl_->a.rows(); }
+int SparseSolver::parallel_subtrees() const {
+  return impl_->schedule && impl_->schedule->ok() ? impl_->schedule->subtrees() : 0;
+}
 
 std::string SparseSolver::ordering() const {
 #if FREEFORM_HAVE_SUITESPARSE

@@ -32,6 +32,11 @@ class CholeskyAnalysis {
   std::unique_ptr<Impl> impl_;
 };
 
+// How a CHOLMOD factor is solved: Auto, its subtrees on several cores (supernodal_solve.h) where
+// its layout allows; Baseline, the same without the AVX2 kernels; Cholmod, CHOLMOD's own solve,
+// one supernode after the other. The last two are for tests and benchmarks.
+enum class SolveKernel { Auto, Baseline, Cholmod };
+
 class SparseSolver {
  public:
   // Factors A. `symmetric` selects the family; `kind` forces one solver (Auto: the fast one,
@@ -54,12 +59,16 @@ class SparseSolver {
   // its relative residual |A x - b| / |b| exceeds 1e-6 in some column (numerically singular
   // matrix). Corrections of iterative refinement skip the check: their right-hand side is
   // itself rounding noise.
-  Eigen::MatrixXd solve(const Eigen::MatrixXd& b, bool check_residual = true) const;
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& b, bool check_residual = true,
+                        SolveKernel kernel = SolveKernel::Auto) const;
 
   // max over columns of |A x_j - b_j| / |b_j| (|A x_j - b_j| where b_j = 0).
   double relative_residual(const Eigen::MatrixXd& x, const Eigen::MatrixXd& b) const;
 
   SolverKind kind() const;
+  Eigen::Index rows() const;
+  // Subtrees solve() runs concurrently (supernodal_solve.h); 0 where CHOLMOD's own solve is used.
+  int parallel_subtrees() const;
   std::string name() const;  // e.g. "cholmod-supernodal-llt"
   bool reused_analysis() const;  // the factorization used the CholeskyAnalysis passed in
   // CHOLMOD only (else empty / 0): how its rows were ordered ("amd", "metis", "metis, N parts

@@ -1,0 +1,87 @@
+// The factor's solve on all cores (issue 43; docs/benchmarks.md, "Precompute on all cores"):
+// SparseSolver's subtree-parallel solve (numerics/supernodal_solve.h) against CHOLMOD's own, on
+// the same factor of the BCM system of bench_scale's support (a libcgal-demo mesh subdivided S
+// times, the first N free vertices breadth-first from vertex 0), alternating the two solves so
+// that both see the same machine. Per column count: each solve's median and fastest wall time.
+// Args: mesh_name subdivisions free_in_thousands k [repeats]. JSON on stdout.
+#include "bench_meshes.h"
+
+#include "freeform/bcm/bcm_system.h"
+#include "freeform/common/parallel.h"
+#include "freeform/common/phase_clock.h"
+#include "freeform/io/mesh_io.h"
+#include "freeform/mesh/generators.h"
+#include "freeform/mesh/mesh.h"
+#include "freeform/mesh/traversal.h"
+#include "freeform/numerics/sparse_solver.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+#include <random>
+#include <string>
+
+using namespace freeform;
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 5) {
+    std::fprintf(stderr, "usage: bench_solve mesh_name subdivisions free_in_thousands k [repeats]\n");
+    return 2;
+  }
+  TriangleSoup soup = read_mesh((bench::mesh_dir() / argv[1]).string()).soup;
+  for (int s = std::stoi(argv[2]); s > 0; --s) soup = subdivide_midpoint(soup);
+  const Mesh mesh = Mesh::from_soup(soup);
+  const int n = std::stoi(argv[3]) * 1000;
+  const int repeats = argc > 5 ? std::stoi(argv[5]) : 5;
+  const Vertex seed[] = {Vertex(0)};
+  std::vector<Vertex> bfs = k_ring(mesh, seed, 1 << 20);
+  if (static_cast<int>(bfs.size()) <= n + 50) {
+    std::fprintf(stderr, "too few vertices reachable from vertex 0\n");
+    return 1;
+  }
+  bfs.resize(static_cast<std::size_t>(n) + 50);
+  const Regions regions(mesh, bfs, {{std::vector<Vertex>(bfs.begin(), bfs.begin() + 50), true}});
+  BcmSettings settings;
+  settings.order = std::stoi(argv[4]);
+  BcmSystem sys = assemble_bcm_system(mesh, mesh.positions(), regions, settings, false);
+  const PhaseClock factoring;
+  const SparseSolver solver(std::move(sys.a_pp), true);
+  nlohmann::json out = {{"rows", solver.rows()},
+                        {"factor_nonzeros", solver.factor_nonzeros()},
+                        {"threads", thread_budget()},
+                        {"subtrees", solver.parallel_subtrees()},
+                        {"factorization_ms", factoring.elapsed().wall_ms}};
+  std::mt19937 rng(43);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int m : {3, 7}) {
+    Eigen::MatrixXd b(solver.rows(), m);
+    for (Eigen::Index i = 0; i < b.size(); ++i) b.data()[i] = u(rng);
+    std::vector<double> ours, cholmod;
+    double difference = 0.0;
+    for (int r = 0; r < repeats; ++r) {
+      const PhaseClock a;
+      const Eigen::MatrixXd x = solver.solve(b, false);
+      ours.push_back(a.elapsed().wall_ms);
+      const PhaseClock c;
+      const Eigen::MatrixXd y = solver.solve(b, false, SolveKernel::Cholmod);
+      cholmod.push_back(c.elapsed().wall_ms);
+      difference = std::max(difference, (x - y).cwiseAbs().maxCoeff() / y.cwiseAbs().maxCoeff());
+    }
+    out["columns"].push_back({{"columns", m},
+                              {"subtrees_ms", {{"median", median(ours)}, {"min", *std::min_element(ours.begin(), ours.end())}}},
+                              {"cholmod_ms", {{"median", median(cholmod)}, {"min", *std::min_element(cholmod.begin(), cholmod.end())}}},
+                              {"max_relative_difference", difference}});
+  }
+  std::cout << out.dump(1) << "\n";
+}
