@@ -58,9 +58,9 @@ class SparseSolver {
   // X = A^-1 B (B: n by m). Throws SolverError if the result is not finite or (check_residual)
   // its relative residual |A x - b| / |b| exceeds 1e-6 in some column (numerically singular
   // matrix). Corrections of iterative refinement skip the check: their right-hand side is
-  // itself rounding noise.
-  Eigen::MatrixXd solve(const Eigen::MatrixXd& b, bool check_residual = true,
-                        SolveKernel kernel = SolveKernel::Auto) const;
+  // itself rounding noise. residual (optional) receives relative_residual(X, B).
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& b, bool check_residual = true, SolveKernel kernel = SolveKernel::Auto,
+                        double* residual = nullptr) const;
 
   // max over columns of |A x_j - b_j| / |b_j| (|A x_j - b_j| where b_j = 0).
   double relative_residual(const Eigen::MatrixXd& x, const Eigen::MatrixXd& b) const;
