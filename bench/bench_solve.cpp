@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
                         {"factor_nonzeros", solver.factor_nonzeros()},
                         {"threads", thread_budget()},
                         {"subtrees", solver.parallel_subtrees()},
+                        {"serial_share", solver.serial_solve_share()},
                         {"factorization_ms", factoring.elapsed().wall_ms}};
   std::mt19937 rng(43);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

@@ -61,6 +61,9 @@ TEST(SupernodalSolve, SplitsLargeFactorsIntoSubtreesAndGivesTheSameBitsOnEveryRu
   if (solver.kind() != SolverKind::CholmodSupernodal) GTEST_SKIP() << "no CHOLMOD in this build";
   // 8,000 rows: split until no subtree holds more than 1/64 of the factor.
   EXPECT_GE(solver.parallel_subtrees(), 32);
+  // What stays serial is the top of the tree: the last separators, a small share of the factor.
+  EXPECT_GT(solver.serial_solve_share(), 0.0);
+  EXPECT_LT(solver.serial_solve_share(), 0.25);
   const Eigen::MatrixXd b = random_rhs(solver.rows(), 7, 5);
   const Eigen::MatrixXd first = solver.solve(b);
   // The pool takes the subtrees in whatever order its threads get to them; the sums must not care.

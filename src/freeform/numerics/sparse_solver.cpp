@@ -469,6 +469,9 @@ Eigen::Index SparseSolver::rows() const { return impl_->a.rows(); }
 int SparseSolver::parallel_subtrees() const {
   return impl_->schedule && impl_->schedule->ok() ? impl_->schedule->subtrees() : 0;
 }
+double SparseSolver::serial_solve_share() const {
+  return impl_->schedule && impl_->schedule->ok() ? impl_->schedule->serial_share() : 0.0;
+}
 
 std::string SparseSolver::ordering() const {
 #if FREEFORM_HAVE_SUITESPARSE

@@ -69,6 +69,7 @@ class SparseSolver {
   Eigen::Index rows() const;
   // Subtrees solve() runs concurrently (supernodal_solve.h); 0 where CHOLMOD's own solve is used.
   int parallel_subtrees() const;
+  double serial_solve_share() const;  // the factor's share solved on one thread (0 without subtrees)
   std::string name() const;  // e.g. "cholmod-supernodal-llt"
   bool reused_analysis() const;  // the factorization used the CholeskyAnalysis passed in
   // CHOLMOD only (else empty / 0): how its rows were ordered ("amd", "metis", "metis, N parts

@@ -21,6 +21,7 @@ struct detail::SupernodalSweep {
   double* y;
   int mp;
   bool wide;
+  bool top;  // the supernodes above the subtrees: alone on the pool
 };
 
 namespace {
@@ -41,66 +42,44 @@ Block block(const SupernodalFactor& f, int s) {
   return {f.super[s + 1] - f.super[s], f.pi[s + 1] - f.pi[s], f.s_rows + f.pi[s], f.x + f.px[s]};
 }
 
-// The dense part of a supernode: x is its rows by W right-hand sides, row-major with leading
-// dimension ld. Columns go four at a time, so that each row below is loaded and stored once
-// per four columns of the factor (the solve is bound by reading the factor, not by flops).
-// forward: on entry the first ncol rows hold the right-hand side and the others 0; on exit the
-// first ncol rows hold L11^-1 of it and the others -L21 times that.
-// backward: on entry the own rows hold the right-hand side and the others the solution; on exit
-// the own rows hold L11^-T (rhs - L21^T others).
-// The baseline ISA's version; AVX2 + FMA below.
 template <int W>
-void forward(const double* l, int nrow, int ncol, double* x, int ld) {
+void update(const double* l, int ldl, int ncol, int lo, int hi, const double* xs, double* x, int ld) {
   for (int c0 = 0; c0 < ncol; c0 += 4) {
     const int g = std::min(4, ncol - c0);
-    for (int q = 0; q < g; ++q) {
-      const double* lc = l + static_cast<std::ptrdiff_t>(c0 + q) * nrow;
-      double* xc = x + static_cast<std::ptrdiff_t>(c0 + q) * ld;
-      const double d = lc[c0 + q];
-      for (int k = 0; k < W; ++k) xc[k] /= d;
-      for (int q2 = q + 1; q2 < g; ++q2) {
-        double* xr = x + static_cast<std::ptrdiff_t>(c0 + q2) * ld;
-        const double v = lc[c0 + q2];
-        for (int k = 0; k < W; ++k) xr[k] -= v * xc[k];
-      }
-    }
-    const double* l0 = l + static_cast<std::ptrdiff_t>(c0) * nrow;
+    const double* l0 = l + static_cast<std::ptrdiff_t>(c0) * ldl;
+    const double* p = xs + static_cast<std::ptrdiff_t>(c0) * ld;
     if (g == 4) {
-      const double *l1 = l0 + nrow, *l2 = l1 + nrow, *l3 = l2 + nrow;
+      const double *l1 = l0 + ldl, *l2 = l1 + ldl, *l3 = l2 + ldl;
       double p0[W], p1[W], p2[W], p3[W];
-      for (int k = 0; k < W; ++k) {
-        p0[k] = x[static_cast<std::ptrdiff_t>(c0) * ld + k];
-        p1[k] = x[static_cast<std::ptrdiff_t>(c0 + 1) * ld + k];
-        p2[k] = x[static_cast<std::ptrdiff_t>(c0 + 2) * ld + k];
-        p3[k] = x[static_cast<std::ptrdiff_t>(c0 + 3) * ld + k];
-      }
-      for (int r = c0 + 4; r < nrow; ++r) {
+      for (int k = 0; k < W; ++k) p0[k] = p[k], p1[k] = p[ld + k], p2[k] = p[2 * ld + k], p3[k] = p[3 * ld + k];
+      for (int r = lo; r < hi; ++r) {
         double* xr = x + static_cast<std::ptrdiff_t>(r) * ld;
         const double a0 = l0[r], a1 = l1[r], a2 = l2[r], a3 = l3[r];
         for (int k = 0; k < W; ++k) xr[k] -= a0 * p0[k] + a1 * p1[k] + a2 * p2[k] + a3 * p3[k];
       }
       continue;
     }
-    for (int r = c0 + g; r < nrow; ++r) {
+    for (int r = lo; r < hi; ++r) {
       double* xr = x + static_cast<std::ptrdiff_t>(r) * ld;
       for (int q = 0; q < g; ++q) {
-        const double a = l0[static_cast<std::ptrdiff_t>(q) * nrow + r];
-        const double* p = x + static_cast<std::ptrdiff_t>(c0 + q) * ld;
-        for (int k = 0; k < W; ++k) xr[k] -= a * p[k];
+        const double a = l0[static_cast<std::ptrdiff_t>(q) * ldl + r];
+        for (int k = 0; k < W; ++k) xr[k] -= a * p[static_cast<std::ptrdiff_t>(q) * ld + k];
       }
     }
   }
 }
+
 template <int W>
-void backward(const double* l, int nrow, int ncol, double* x, int ld) {
-  for (int c1 = ncol; c1 > 0; c1 -= 4) {
-    const int c0 = std::max(0, c1 - 4), g = c1 - c0;
-    const double* l0 = l + static_cast<std::ptrdiff_t>(c0) * nrow;
-    double acc[4][W] = {};
+void accumulate(const double* l, int ldl, int ncol, int lo, int hi, const double* x, int ld, double* acc) {
+  for (int c0 = 0; c0 < ncol; c0 += 4) {
+    const int g = std::min(4, ncol - c0);
+    const double* l0 = l + static_cast<std::ptrdiff_t>(c0) * ldl;
+    double* a = acc + static_cast<std::ptrdiff_t>(c0) * W;
     if (g == 4) {
-      const double *l1 = l0 + nrow, *l2 = l1 + nrow, *l3 = l2 + nrow;
-      double s0[W] = {}, s1[W] = {}, s2[W] = {}, s3[W] = {};
-      for (int r = c1; r < nrow; ++r) {
+      const double *l1 = l0 + ldl, *l2 = l1 + ldl, *l3 = l2 + ldl;
+      double s0[W], s1[W], s2[W], s3[W];
+      for (int k = 0; k < W; ++k) s0[k] = a[k], s1[k] = a[W + k], s2[k] = a[2 * W + k], s3[k] = a[3 * W + k];
+      for (int r = lo; r < hi; ++r) {
         const double* xr = x + static_cast<std::ptrdiff_t>(r) * ld;
         const double a0 = l0[r], a1 = l1[r], a2 = l2[r], a3 = l3[r];
         for (int k = 0; k < W; ++k) {
@@ -110,27 +89,45 @@ void backward(const double* l, int nrow, int ncol, double* x, int ld) {
           s3[k] += a3 * xr[k];
         }
       }
-      for (int k = 0; k < W; ++k) acc[0][k] = s0[k], acc[1][k] = s1[k], acc[2][k] = s2[k], acc[3][k] = s3[k];
-    } else {
-      for (int r = c1; r < nrow; ++r) {
-        const double* xr = x + static_cast<std::ptrdiff_t>(r) * ld;
-        for (int q = 0; q < g; ++q) {
-          const double a = l0[static_cast<std::ptrdiff_t>(q) * nrow + r];
-          for (int k = 0; k < W; ++k) acc[q][k] += a * xr[k];
-        }
+      for (int k = 0; k < W; ++k) a[k] = s0[k], a[W + k] = s1[k], a[2 * W + k] = s2[k], a[3 * W + k] = s3[k];
+      continue;
+    }
+    for (int r = lo; r < hi; ++r) {
+      const double* xr = x + static_cast<std::ptrdiff_t>(r) * ld;
+      for (int q = 0; q < g; ++q) {
+        const double v = l0[static_cast<std::ptrdiff_t>(q) * ldl + r];
+        for (int k = 0; k < W; ++k) a[q * W + k] += v * xr[k];
       }
     }
-    for (int q = g - 1; q >= 0; --q) {
-      const double* lc = l0 + static_cast<std::ptrdiff_t>(q) * nrow;
-      double* xc = x + static_cast<std::ptrdiff_t>(c0 + q) * ld;
-      for (int q2 = q + 1; q2 < g; ++q2) {
-        const double v = lc[c0 + q2];
-        const double* xr = x + static_cast<std::ptrdiff_t>(c0 + q2) * ld;
-        for (int k = 0; k < W; ++k) acc[q][k] += v * xr[k];
-      }
-      const double d = lc[c0 + q];
-      for (int k = 0; k < W; ++k) xc[k] = (xc[k] - acc[q][k]) / d;
+  }
+}
+
+// The triangle of columns [c0, c0 + g) (g <= 4) and its rows: forward substitution, and backward
+// with acc (g rows of W) the sums from the rows below.
+template <int W>
+void forward_group(const double* l, int ldl, int c0, int g, double* x, int ld) {
+  for (int q = 0; q < g; ++q) {
+    const double* lc = l + static_cast<std::ptrdiff_t>(c0 + q) * ldl;
+    double* xc = x + static_cast<std::ptrdiff_t>(c0 + q) * ld;
+    for (int q0 = 0; q0 < q; ++q0) {
+      const double v = l[static_cast<std::ptrdiff_t>(c0 + q0) * ldl + c0 + q];
+      const double* p = x + static_cast<std::ptrdiff_t>(c0 + q0) * ld;
+      for (int k = 0; k < W; ++k) xc[k] -= v * p[k];
     }
+    for (int k = 0; k < W; ++k) xc[k] /= lc[c0 + q];
+  }
+}
+
+template <int W>
+void backward_group(const double* l, int ldl, int c0, int g, double* x, int ld, double* acc) {
+  for (int q = g - 1; q >= 0; --q) {
+    const double* lc = l + static_cast<std::ptrdiff_t>(c0 + q) * ldl;
+    double* xc = x + static_cast<std::ptrdiff_t>(c0 + q) * ld;
+    for (int q2 = q + 1; q2 < g; ++q2) {
+      const double* xr = x + static_cast<std::ptrdiff_t>(c0 + q2) * ld;
+      for (int k = 0; k < W; ++k) acc[q * W + k] += lc[c0 + q2] * xr[k];
+    }
+    for (int k = 0; k < W; ++k) xc[k] = (xc[k] - acc[q * W + k]) / lc[c0 + q];
   }
 }
 
@@ -169,27 +166,16 @@ template <int V>
 }
 
 template <int V>
-[[gnu::target("avx2,fma")]] inline void divide(Row<V>& r, double d) {
-  const __m256d s = _mm256_set1_pd(d);
-  for (int i = 0; i < V; ++i) r.v[i] = _mm256_div_pd(r.v[i], s);
-}
-
-template <int V>
-[[gnu::target("avx2,fma")]] void forward(const double* l, int nrow, int ncol, double* x, int ld) {
+[[gnu::target("avx2,fma")]] void update(const double* l, int ldl, int ncol, int lo, int hi, const double* xs,
+                                        double* x, int ld) {
   for (int c0 = 0; c0 < ncol; c0 += 4) {
     const int g = std::min(4, ncol - c0);
+    const double* l0 = l + static_cast<std::ptrdiff_t>(c0) * ldl;
     Row<V> p[4] = {};
-    for (int q = 0; q < g; ++q) {  // the 4 by 4 triangle
-      const double* lc = l + static_cast<std::ptrdiff_t>(c0 + q) * nrow;
-      p[q] = load<V>(x + static_cast<std::ptrdiff_t>(c0 + q) * ld);
-      for (int q0 = 0; q0 < q; ++q0) sub_scaled(p[q], l[static_cast<std::ptrdiff_t>(c0 + q0) * nrow + c0 + q], p[q0]);
-      divide(p[q], lc[c0 + q]);
-      store(x + static_cast<std::ptrdiff_t>(c0 + q) * ld, p[q]);
-    }
-    const double* l0 = l + static_cast<std::ptrdiff_t>(c0) * nrow;
+    for (int q = 0; q < g; ++q) p[q] = load<V>(xs + static_cast<std::ptrdiff_t>(c0 + q) * ld);
     if (g == 4) {
-      const double *l1 = l0 + nrow, *l2 = l1 + nrow, *l3 = l2 + nrow;
-      for (int r = c0 + 4; r < nrow; ++r) {
+      const double *l1 = l0 + ldl, *l2 = l1 + ldl, *l3 = l2 + ldl;
+      for (int r = lo; r < hi; ++r) {
         double* xr = x + static_cast<std::ptrdiff_t>(r) * ld;
         Row<V> a = load<V>(xr);
         sub_scaled(a, l0[r], p[0]);
@@ -200,49 +186,39 @@ template <int V>
       }
       continue;
     }
-    for (int r = c0 + g; r < nrow; ++r) {
+    for (int r = lo; r < hi; ++r) {
       double* xr = x + static_cast<std::ptrdiff_t>(r) * ld;
       Row<V> a = load<V>(xr);
-      for (int q = 0; q < g; ++q) sub_scaled(a, l0[static_cast<std::ptrdiff_t>(q) * nrow + r], p[q]);
+      for (int q = 0; q < g; ++q) sub_scaled(a, l0[static_cast<std::ptrdiff_t>(q) * ldl + r], p[q]);
       store(xr, a);
     }
   }
 }
 
 template <int V>
-[[gnu::target("avx2,fma")]] void backward(const double* l, int nrow, int ncol, double* x, int ld) {
-  for (int c1 = ncol; c1 > 0; c1 -= 4) {
-    const int c0 = std::max(0, c1 - 4), g = c1 - c0;
-    const double* l0 = l + static_cast<std::ptrdiff_t>(c0) * nrow;
-    Row<V> acc[4];
-    for (int q = 0; q < 4; ++q)
-      for (int i = 0; i < V; ++i) acc[q].v[i] = _mm256_setzero_pd();
+[[gnu::target("avx2,fma")]] void accumulate(const double* l, int ldl, int ncol, int lo, int hi, const double* x,
+                                            int ld, double* acc) {
+  for (int c0 = 0; c0 < ncol; c0 += 4) {
+    const int g = std::min(4, ncol - c0);
+    const double* l0 = l + static_cast<std::ptrdiff_t>(c0) * ldl;
+    Row<V> s[4] = {};
+    for (int q = 0; q < g; ++q) s[q] = load<V>(acc + static_cast<std::ptrdiff_t>(c0 + q) * 4 * V);
     if (g == 4) {
-      const double *l1 = l0 + nrow, *l2 = l1 + nrow, *l3 = l2 + nrow;
-      for (int r = c1; r < nrow; ++r) {
+      const double *l1 = l0 + ldl, *l2 = l1 + ldl, *l3 = l2 + ldl;
+      for (int r = lo; r < hi; ++r) {
         const Row<V> a = load<V>(x + static_cast<std::ptrdiff_t>(r) * ld);
-        add_scaled(acc[0], l0[r], a);
-        add_scaled(acc[1], l1[r], a);
-        add_scaled(acc[2], l2[r], a);
-        add_scaled(acc[3], l3[r], a);
+        add_scaled(s[0], l0[r], a);
+        add_scaled(s[1], l1[r], a);
+        add_scaled(s[2], l2[r], a);
+        add_scaled(s[3], l3[r], a);
       }
     } else {
-      for (int r = c1; r < nrow; ++r) {
+      for (int r = lo; r < hi; ++r) {
         const Row<V> a = load<V>(x + static_cast<std::ptrdiff_t>(r) * ld);
-        for (int q = 0; q < g; ++q) add_scaled(acc[q], l0[static_cast<std::ptrdiff_t>(q) * nrow + r], a);
+        for (int q = 0; q < g; ++q) add_scaled(s[q], l0[static_cast<std::ptrdiff_t>(q) * ldl + r], a);
       }
     }
-    Row<V> solved[4] = {};
-    for (int q = g - 1; q >= 0; --q) {
-      const double* lc = l0 + static_cast<std::ptrdiff_t>(q) * nrow;
-      double* xc = x + static_cast<std::ptrdiff_t>(c0 + q) * ld;
-      for (int q2 = q + 1; q2 < g; ++q2) add_scaled(acc[q], lc[c0 + q2], solved[q2]);
-      Row<V> v = load<V>(xc);
-      for (int i = 0; i < V; ++i) v.v[i] = _mm256_sub_pd(v.v[i], acc[q].v[i]);
-      divide(v, lc[c0 + q]);
-      solved[q] = v;
-      store(xc, v);
-    }
+    for (int q = 0; q < g; ++q) store(acc + static_cast<std::ptrdiff_t>(c0 + q) * 4 * V, s[q]);
   }
 }
 
@@ -250,27 +226,136 @@ template <int V>
 const bool kWide = cpu_has_avx2_fma();
 #endif
 
-// The right-hand sides in chunks of 8 (the last one 4 wide where that is all that is left).
-template <bool Forward>
-void block_kernel(const Block& b, double* x, int mp, bool wide_kernels) {
-  for (int j = 0; j < mp; j += 8) {
-    const bool eight = mp - j >= 8;
+// The kernels for chunks of W right-hand sides, picked once per chunk.
+template <int W>
+struct Kernels {
+  void (*update)(const double*, int, int, int, int, const double*, double*, int);
+  void (*accumulate)(const double*, int, int, int, int, const double*, int, double*);
+};
+
+template <int W>
+Kernels<W> kernels(bool wide_kernels) {
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (kWide && wide_kernels) {
-      if constexpr (Forward)
-        eight ? wide::forward<2>(b.l, b.nrow, b.ncol, x + j, mp) : wide::forward<1>(b.l, b.nrow, b.ncol, x + j, mp);
-      else
-        eight ? wide::backward<2>(b.l, b.nrow, b.ncol, x + j, mp) : wide::backward<1>(b.l, b.nrow, b.ncol, x + j, mp);
-      continue;
-    }
+  if (kWide && wide_kernels) return {wide::update<W / 4>, wide::accumulate<W / 4>};
 #endif
-    if constexpr (Forward)
-      eight ? forward<8>(b.l, b.nrow, b.ncol, x + j, mp) : forward<4>(b.l, b.nrow, b.ncol, x + j, mp);
-    else
-      eight ? backward<8>(b.l, b.nrow, b.ncol, x + j, mp) : backward<4>(b.l, b.nrow, b.ncol, x + j, mp);
+  (void)wide_kernels;
+  return {update<W>, accumulate<W>};
+}
+
+// One supernode's dense part, or the rows [lo, hi) of it (the others run concurrently): x is
+// its rows by W right-hand sides, row-major with leading dimension ld. forward: on entry the
+// first ncol rows hold the right-hand side and the others 0; on exit the first ncol rows hold
+// L11^-1 of it and the others -L21 times that. backward: on entry the own rows hold the
+// right-hand side and the others the solution; on exit the own rows hold L11^-T (rhs - L21^T
+// others). Columns go four at a time, so that each row below is loaded once per four columns
+// of the factor: the solve is bound by reading the factor, not by flops.
+template <int W>
+void forward_chunk(const double* l, int ldl, int nrow, int ncol, double* x, int ld, bool wide_kernels) {
+  const Kernels<W> k = kernels<W>(wide_kernels);
+  for (int c0 = 0; c0 < ncol; c0 += 4) {
+    const int g = std::min(4, ncol - c0);
+    forward_group<W>(l, ldl, c0, g, x, ld);
+    k.update(l + static_cast<std::ptrdiff_t>(c0) * ldl, ldl, g, c0 + g, nrow, x + static_cast<std::ptrdiff_t>(c0) * ld, x,
+             ld);
   }
 }
 
+template <int W>
+void backward_chunk(const double* l, int ldl, int nrow, int ncol, double* x, int ld, bool wide_kernels) {
+  const Kernels<W> k = kernels<W>(wide_kernels);
+  for (int c1 = ncol; c1 > 0; c1 -= 4) {
+    const int c0 = std::max(0, c1 - 4), g = c1 - c0;
+    double acc[4 * W] = {};
+    k.accumulate(l + static_cast<std::ptrdiff_t>(c0) * ldl, ldl, g, c1, nrow, x, ld, acc);
+    backward_group<W>(l, ldl, c0, g, x, ld, acc);
+  }
+}
+
+// A supernode at the top of the tree, where no subtrees are left to run beside it: panels of
+// kPanel columns, each panel's triangle on one thread and the rows below it in blocks of
+// kRowBlock on the pool. The blocks are fixed and their sums added in order: the same bits on any
+// number of threads.
+constexpr int kPanel = 64;
+constexpr int kRowBlock = 128;
+
+template <int W>
+void forward_panels(const double* l, int nrow, int ncol, double* x, int ld, bool wide_kernels) {
+  const Kernels<W> k = kernels<W>(wide_kernels);
+  for (int c0 = 0; c0 < ncol; c0 += kPanel) {
+    const int pc = std::min(kPanel, ncol - c0);
+    const double* lp = l + static_cast<std::ptrdiff_t>(c0) * nrow;
+    double* xp = x + static_cast<std::ptrdiff_t>(c0) * ld;
+    forward_chunk<W>(lp + c0, nrow, pc, pc, xp, ld, wide_kernels);
+    const int first = c0 + pc, blocks = (nrow - first + kRowBlock - 1) / kRowBlock;
+    parallel_for(blocks, 1, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+      for (auto i = static_cast<int>(lo); i < hi; ++i)
+        k.update(lp, nrow, pc, first + i * kRowBlock, std::min(nrow, first + (i + 1) * kRowBlock), xp, x, ld);
+    });
+  }
+}
+
+template <int W>
+void backward_panels(const double* l, int nrow, int ncol, double* x, int ld, bool wide_kernels) {
+  const Kernels<W> k = kernels<W>(wide_kernels);
+  std::vector<double> partial;
+  for (int c1 = ncol; c1 > 0; c1 -= kPanel) {
+    const int c0 = std::max(0, c1 - kPanel), pc = c1 - c0;
+    const double* lp = l + static_cast<std::ptrdiff_t>(c0) * nrow;
+    double* xp = x + static_cast<std::ptrdiff_t>(c0) * ld;
+    const int blocks = (nrow - c1 + kRowBlock - 1) / kRowBlock;
+    const std::size_t stride = static_cast<std::size_t>(pc) * W;
+    partial.assign(static_cast<std::size_t>(blocks) * stride, 0.0);
+    parallel_for(blocks, 1, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+      for (auto i = static_cast<int>(lo); i < hi; ++i)
+        k.accumulate(lp, nrow, pc, c1 + i * kRowBlock, std::min(nrow, c1 + (i + 1) * kRowBlock), x, ld,
+                     partial.data() + static_cast<std::size_t>(i) * stride);
+    });
+    for (int i = 0; i < blocks; ++i)
+      for (int q = 0; q < pc; ++q)
+        for (int j = 0; j < W; ++j)
+          xp[static_cast<std::ptrdiff_t>(q) * ld + j] -= partial[static_cast<std::size_t>(i) * stride + q * W + j];
+    backward_chunk<W>(lp + c0, nrow, pc, pc, xp, ld, wide_kernels);
+  }
+}
+
+// The right-hand sides in chunks of 8 (the last one 4 wide where that is all that is left).
+// panels: a top supernode large enough to split its rows among the pool's threads.
+template <bool Forward>
+void block_kernel(const Block& b, double* x, int mp, bool wide_kernels, bool panels) {
+  for (int j = 0; j < mp; j += 8) {
+    const bool eight = mp - j >= 8;
+    double* xj = x + j;
+    if constexpr (Forward) {
+      if (panels)
+        eight ? forward_panels<8>(b.l, b.nrow, b.ncol, xj, mp, wide_kernels)
+              : forward_panels<4>(b.l, b.nrow, b.ncol, xj, mp, wide_kernels);
+      else
+        eight ? forward_chunk<8>(b.l, b.nrow, b.nrow, b.ncol, xj, mp, wide_kernels)
+              : forward_chunk<4>(b.l, b.nrow, b.nrow, b.ncol, xj, mp, wide_kernels);
+    } else {
+      if (panels)
+        eight ? backward_panels<8>(b.l, b.nrow, b.ncol, xj, mp, wide_kernels)
+              : backward_panels<4>(b.l, b.nrow, b.ncol, xj, mp, wide_kernels);
+      else
+        eight ? backward_chunk<8>(b.l, b.nrow, b.nrow, b.ncol, xj, mp, wide_kernels)
+              : backward_chunk<4>(b.l, b.nrow, b.nrow, b.ncol, xj, mp, wide_kernels);
+    }
+  }
+}
+
+// Top supernodes with at least this many rows below a panel go by panels.
+constexpr int kPanelRows = 2 * kRowBlock;
+
+// What a top supernode solves on one thread: all of it, or by panels their triangles.
+double serial_entries(const Block& b) {
+  if (b.nrow < kPanelRows) return static_cast<double>(b.nrow) * b.ncol;
+  double triangles = 0.0;
+  for (int c0 = 0; c0 < b.ncol; c0 += kPanel) {
+    const double pc = std::min(kPanel, b.ncol - c0);
+    triangles += pc * (pc + 1) / 2;
+  }
+  return triangles;
+}
 
 // Rows of y (row-major, mp doubles each) into the block's x and back.
 void gather(const Block& b, const double* y, int mp, int rows, double* x) {
@@ -290,7 +375,7 @@ void forward_supernode(const Block& b, const Sweep& w, double* x, int limit, con
   const int mp = w.mp;
   gather(b, y, mp, b.ncol, x);
   std::fill(x + static_cast<std::ptrdiff_t>(b.ncol) * mp, x + static_cast<std::ptrdiff_t>(b.nrow) * mp, 0.0);
-  block_kernel<true>(b, x, mp, w.wide);
+  block_kernel<true>(b, x, mp, w.wide, w.top && b.nrow >= kPanelRows);
   store_own_rows(b, x, mp, y);
   for (int i = b.ncol; i < b.nrow; ++i) {
     const int row = b.rows[i];
@@ -310,7 +395,7 @@ void forward_supernode(const Block& b, const Sweep& w, double* x, int limit, con
 
 void backward_supernode(const Block& b, const Sweep& w, double* x) {
   gather(b, w.y, w.mp, b.nrow, x);
-  block_kernel<false>(b, x, w.mp, w.wide);
+  block_kernel<false>(b, x, w.mp, w.wide, w.top && b.nrow >= kPanelRows);
   store_own_rows(b, x, w.mp, w.y);
 }
 
@@ -367,6 +452,7 @@ SupernodalSolve::SupernodalSolve(const SupernodalFactor& f) {
     }
     top_.push_back(s);
     top_max_rows_ = std::max(top_max_rows_, block(f, s).nrow);
+    serial_share_ += serial_entries(block(f, s)) / total;
     for (int c : children[ss]) open.push(c);
   }
   std::sort(top_.begin(), top_.end());
@@ -412,7 +498,7 @@ std::optional<Eigen::MatrixXd> SupernodalSolve::solve(const SupernodalFactor& f,
   auto work_of = [&](std::size_t i) { return space.data() + offset[i]; };
   auto above_of = [&](std::size_t i) { return work_of(i) + static_cast<std::size_t>(subtrees_[i].max_rows) * m; };
   const auto count = static_cast<std::ptrdiff_t>(subtrees_.size());
-  const Sweep sweep{y.data(), m, wide_kernels};
+  const Sweep sweep{y.data(), m, wide_kernels, false};
   std::atomic<bool> missing{false};
   parallel_for(count, 1, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
     for (auto i = static_cast<std::size_t>(lo); i < static_cast<std::size_t>(hi); ++i)
@@ -428,8 +514,9 @@ std::optional<Eigen::MatrixXd> SupernodalSolve::solve(const SupernodalFactor& f,
         y[static_cast<std::size_t>(root.rows[root.ncol + r]) * m + j] += above[static_cast<std::size_t>(r) * m + j];
   }
   std::vector<double> work(static_cast<std::size_t>(top_max_rows_) * m);
-  for (int s : top_) forward_supernode(block(f, s), sweep, work.data(), n, nullptr, 0, nullptr, missing);
-  for (auto it = top_.rbegin(); it != top_.rend(); ++it) backward_supernode(block(f, *it), sweep, work.data());
+  const Sweep top{y.data(), m, wide_kernels, true};
+  for (int s : top_) forward_supernode(block(f, s), top, work.data(), n, nullptr, 0, nullptr, missing);
+  for (auto it = top_.rbegin(); it != top_.rend(); ++it) backward_supernode(block(f, *it), top, work.data());
   parallel_for(count, 1, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
     for (auto i = static_cast<std::size_t>(lo); i < static_cast<std::size_t>(hi); ++i)
       backward_subtree(f, subtrees_[i], sweep, work_of(i));

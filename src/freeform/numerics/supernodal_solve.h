@@ -41,6 +41,9 @@ class SupernodalSolve {
   explicit SupernodalSolve(const SupernodalFactor& factor);
   bool ok() const { return ok_; }
   int subtrees() const { return static_cast<int>(subtrees_.size()); }
+  // The factor's share that one thread solves alone: the supernodes above the subtrees, of the
+  // large ones the triangles of their panels.
+  double serial_share() const { return serial_share_; }
 
   // X = A^-1 B with the factor the schedule was made for (B: n by m); nullopt if a supernode's
   // rows are not within its subtree root's (a structure CHOLMOD does not make). The dense kernels
@@ -62,6 +65,7 @@ class SupernodalSolve {
   std::vector<Subtree> subtrees_;  // largest first
   std::vector<int> top_;           // supernodes above every subtree, ascending
   int top_max_rows_ = 0;
+  double serial_share_ = 0.0;
 };
 
 }  // namespace freeform
