@@ -79,10 +79,11 @@ int main(int argc, char** argv) {
       cholmod.push_back(c.elapsed().wall_ms);
       difference = std::max(difference, (x - y).cwiseAbs().maxCoeff() / y.cwiseAbs().maxCoeff());
     }
-    out["columns"].push_back({{"columns", m},
-                              {"subtrees_ms", {{"median", median(ours)}, {"min", *std::min_element(ours.begin(), ours.end())}}},
-                              {"cholmod_ms", {{"median", median(cholmod)}, {"min", *std::min_element(cholmod.begin(), cholmod.end())}}},
-                              {"max_relative_difference", difference}});
+    out["columns"].push_back(
+        {{"columns", m},
+         {"subtrees_ms", {{"median", median(ours)}, {"min", *std::min_element(ours.begin(), ours.end())}}},
+         {"cholmod_ms", {{"median", median(cholmod)}, {"min", *std::min_element(cholmod.begin(), cholmod.end())}}},
+         {"max_relative_difference", difference}});
   }
   std::cout << out.dump(1) << "\n";
 }

@@ -166,8 +166,8 @@ template <int V>
 }
 
 template <int V>
-[[gnu::target("avx2,fma")]] void update(const double* l, int ldl, int ncol, int lo, int hi, const double* xs,
-                                        double* x, int ld) {
+[[gnu::target("avx2,fma")]] void update(const double* l, int ldl, int ncol, int lo, int hi, const double* xs, double* x,
+                                        int ld) {
   for (int c0 = 0; c0 < ncol; c0 += 4) {
     const int g = std::min(4, ncol - c0);
     const double* l0 = l + static_cast<std::ptrdiff_t>(c0) * ldl;
@@ -196,8 +196,8 @@ template <int V>
 }
 
 template <int V>
-[[gnu::target("avx2,fma")]] void accumulate(const double* l, int ldl, int ncol, int lo, int hi, const double* x,
-                                            int ld, double* acc) {
+[[gnu::target("avx2,fma")]] void accumulate(const double* l, int ldl, int ncol, int lo, int hi, const double* x, int ld,
+                                            double* acc) {
   for (int c0 = 0; c0 < ncol; c0 += 4) {
     const int g = std::min(4, ncol - c0);
     const double* l0 = l + static_cast<std::ptrdiff_t>(c0) * ldl;
@@ -255,8 +255,8 @@ void forward_chunk(const double* l, int ldl, int nrow, int ncol, double* x, int 
   for (int c0 = 0; c0 < ncol; c0 += 4) {
     const int g = std::min(4, ncol - c0);
     forward_group<W>(l, ldl, c0, g, x, ld);
-    k.update(l + static_cast<std::ptrdiff_t>(c0) * ldl, ldl, g, c0 + g, nrow, x + static_cast<std::ptrdiff_t>(c0) * ld, x,
-             ld);
+    k.update(l + static_cast<std::ptrdiff_t>(c0) * ldl, ldl, g, c0 + g, nrow, x + static_cast<std::ptrdiff_t>(c0) * ld,
+             x, ld);
   }
 }
 
@@ -460,13 +460,13 @@ SupernodalSolve::SupernodalSolve(const SupernodalFactor& f) {
   for (int r : roots) {
     const auto rs = static_cast<std::size_t>(r);
     if (count[rs] != r - first[rs] + 1) return;  // not postordered
-    subtrees_.push_back({first[rs], r, f.super[first[rs]], f.super[r + 1], max_rows[rs]});
+    subtrees_.push_back({first[rs], r, f.super[r + 1], max_rows[rs]});
   }
   ok_ = true;
 }
 
-void SupernodalSolve::forward_subtree(const SupernodalFactor& f, const Subtree& t, const detail::SupernodalSweep& w, double* work,
-                                      double* above, std::atomic<bool>& missing) const {
+void SupernodalSolve::forward_subtree(const SupernodalFactor& f, const Subtree& t, const detail::SupernodalSweep& w,
+                                      double* work, double* above, std::atomic<bool>& missing) const {
   const Block root = block(f, t.last);
   for (int s = t.first; s <= t.last; ++s)
     forward_supernode(block(f, s), w, work, t.col_end, root.rows + root.ncol, root.nrow - root.ncol, above, missing);

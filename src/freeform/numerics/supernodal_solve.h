@@ -1,10 +1,10 @@
 // Solves with a supernodal Cholesky factor on several cores (issue 43). CHOLMOD's own solve walks
-// the supernodes one after the other (1.3 s for the 7 basis columns at 1M free, k = 3, and five
-// more in the refinement): the same triangular solves here run the independent subtrees of the
-// supernodal elimination tree concurrently, and only the top of the tree (the last separators)
-// in order. The split into subtrees depends on the tree alone, and their contributions to the
-// rows above them are summed in a fixed order, so the result is the same on any number of
-// threads.
+// the supernodes one after the other, and the precompute solves with the whole factor once for
+// the basis and once per refinement step. The same triangular solves here run the subtrees of the
+// supernodal elimination tree concurrently, then the top of the tree (the last separators) in
+// order, each of those by panels of columns whose rows below are split among the threads. The
+// subtrees and row blocks depend on the tree alone, and their sums are added in a fixed order,
+// so the result has the same bits on any number of threads.
 #pragma once
 
 #include <Eigen/Core>
@@ -54,12 +54,13 @@ class SupernodalSolve {
  private:
   struct Subtree {
     int first = 0, last = 0;  // supernodes [first, last]; last is the root
-    int col_begin = 0, col_end = 0;
-    int max_rows = 0;         // largest supernode's row count
+    int col_end = 0;  // one past the last column
+    int max_rows = 0;  // largest supernode's row count
   };
-  void forward_subtree(const SupernodalFactor& f, const Subtree& t, const detail::SupernodalSweep& w, double* work, double* above,
-                       std::atomic<bool>& missing) const;
-  void backward_subtree(const SupernodalFactor& f, const Subtree& t, const detail::SupernodalSweep& w, double* work) const;
+  void forward_subtree(const SupernodalFactor& f, const Subtree& t, const detail::SupernodalSweep& w, double* work,
+                       double* above, std::atomic<bool>& missing) const;
+  void backward_subtree(const SupernodalFactor& f, const Subtree& t, const detail::SupernodalSweep& w,
+                        double* work) const;
 
   bool ok_ = false;
   std::vector<Subtree> subtrees_;  // largest first
