@@ -3,10 +3,16 @@
 #pragma once
 
 #include "build_paths.h"
+#include "freeform/io/mesh_io.h"
 #include "freeform/mesh/generators.h"
+#include "freeform/mesh/mesh.h"
+#include "freeform/mesh/traversal.h"
 
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
 
 namespace freeform::bench {
 
@@ -16,5 +22,26 @@ inline std::filesystem::path mesh_dir() {
 }
 
 using freeform::subdivide_midpoint;  // mesh/generators.h
+
+// bench_ordering's and bench_solve's support: the mesh subdivided `subdivisions` times and its
+// first free_vertices + kScaleHandle vertices breadth-first from vertex 0, the first kScaleHandle
+// of them the handle. nullopt when fewer vertices are reachable.
+constexpr int kScaleHandle = 50;
+struct ScaleSupport {
+  Mesh mesh;
+  std::vector<Vertex> support;
+  std::vector<Vertex> handle() const { return {support.begin(), support.begin() + kScaleHandle}; }
+};
+
+inline std::optional<ScaleSupport> scale_support(const std::string& mesh_name, int subdivisions, int free_vertices) {
+  TriangleSoup soup = read_mesh((mesh_dir() / mesh_name).string()).soup;
+  for (int s = subdivisions; s > 0; --s) soup = subdivide_midpoint(soup);
+  ScaleSupport out{Mesh::from_soup(soup), {}};
+  const Vertex seed[] = {Vertex(0)};
+  out.support = k_ring(out.mesh, seed, 1 << 20);
+  if (static_cast<int>(out.support.size()) <= free_vertices + kScaleHandle) return std::nullopt;
+  out.support.resize(static_cast<std::size_t>(free_vertices + kScaleHandle));
+  return out;
+}
 
 }  // namespace freeform::bench

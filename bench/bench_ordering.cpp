@@ -11,15 +11,14 @@
 #include "freeform/bcm/bcm_analysis.h"
 #include "freeform/common/parallel.h"
 #include "freeform/common/phase_clock.h"
-#include "freeform/io/mesh_io.h"
 #include "freeform/mesh/generators.h"
 #include "freeform/mesh/mesh.h"
-#include "freeform/mesh/traversal.h"
 #include "freeform/numerics/nested_dissection.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <optional>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -31,18 +30,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: bench_ordering mesh_name subdivisions free_in_thousands k [parts...]\n");
     return 2;
   }
-  TriangleSoup soup = read_mesh((bench::mesh_dir() / argv[1]).string()).soup;
-  for (int s = std::stoi(argv[2]); s > 0; --s) soup = subdivide_midpoint(soup);
-  const Mesh mesh = Mesh::from_soup(soup);
-  const int n = std::stoi(argv[3]) * 1000;
-  const Vertex seed[] = {Vertex(0)};
-  std::vector<Vertex> bfs = k_ring(mesh, seed, 1 << 20);
-  if (static_cast<int>(bfs.size()) <= n + 50) {
+  const std::optional<bench::ScaleSupport> scene =
+      bench::scale_support(argv[1], std::stoi(argv[2]), std::stoi(argv[3]) * 1000);
+  if (!scene) {
     std::fprintf(stderr, "too few vertices reachable from vertex 0\n");
     return 1;
   }
-  bfs.resize(static_cast<std::size_t>(n) + 50);
-  const Regions regions(mesh, bfs, {{std::vector<Vertex>(bfs.begin(), bfs.begin() + 50), true}});
+  const Mesh& mesh = scene->mesh;
+  const Regions regions(mesh, scene->support, {{scene->handle(), true}});
   const Eigen::SparseMatrix<double> lower = bcm_lower_pattern(mesh, regions, std::stoi(argv[4]));
   nlohmann::json out = {{"rows", lower.rows()}, {"nonzeros", lower.nonZeros()}, {"threads", thread_budget()}};
   {

@@ -9,15 +9,14 @@
 #include "freeform/bcm/bcm_system.h"
 #include "freeform/common/parallel.h"
 #include "freeform/common/phase_clock.h"
-#include "freeform/io/mesh_io.h"
 #include "freeform/mesh/generators.h"
 #include "freeform/mesh/mesh.h"
-#include "freeform/mesh/traversal.h"
 #include "freeform/numerics/sparse_solver.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <optional>
 #include <cstdio>
 #include <iostream>
 #include <random>
@@ -39,19 +38,15 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: bench_solve mesh_name subdivisions free_in_thousands k [repeats]\n");
     return 2;
   }
-  TriangleSoup soup = read_mesh((bench::mesh_dir() / argv[1]).string()).soup;
-  for (int s = std::stoi(argv[2]); s > 0; --s) soup = subdivide_midpoint(soup);
-  const Mesh mesh = Mesh::from_soup(soup);
-  const int n = std::stoi(argv[3]) * 1000;
-  const int repeats = argc > 5 ? std::stoi(argv[5]) : 5;
-  const Vertex seed[] = {Vertex(0)};
-  std::vector<Vertex> bfs = k_ring(mesh, seed, 1 << 20);
-  if (static_cast<int>(bfs.size()) <= n + 50) {
+  const std::optional<bench::ScaleSupport> scene =
+      bench::scale_support(argv[1], std::stoi(argv[2]), std::stoi(argv[3]) * 1000);
+  if (!scene) {
     std::fprintf(stderr, "too few vertices reachable from vertex 0\n");
     return 1;
   }
-  bfs.resize(static_cast<std::size_t>(n) + 50);
-  const Regions regions(mesh, bfs, {{std::vector<Vertex>(bfs.begin(), bfs.begin() + 50), true}});
+  const Mesh& mesh = scene->mesh;
+  const Regions regions(mesh, scene->support, {{scene->handle(), true}});
+  const int repeats = argc > 5 ? std::stoi(argv[5]) : 5;
   BcmSettings settings;
   settings.order = std::stoi(argv[4]);
   BcmSystem sys = assemble_bcm_system(mesh, mesh.positions(), regions, settings, false);
