@@ -5,7 +5,9 @@
 #include "freeform/bcm/boundary_band.h"
 
 #include "freeform/common/error.h"
+#include "freeform/common/parallel.h"
 #include "freeform/mesh/traversal.h"
+#include "freeform/numerics/csr.h"
 #include "freeform/numerics/sparse_solver.h"
 #include "freeform/operators/face_geometry.h"
 
@@ -15,8 +17,6 @@
 
 namespace freeform {
 namespace {
-
-using SpRow = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
 // The patch: free vertices first (regions order), then the constrained ones ring by ring.
 struct Patch {
@@ -88,82 +88,6 @@ void check_constrained_reach(const Mesh& mesh, const Regions& regions, const Pat
   }
 }
 
-// Compressed sparse rows; the intermediate products stay in this form (no Eigen copies).
-struct Csr {
-  int rows = 0, cols = 0;
-  std::vector<int> outer{0};
-  std::vector<int> inner;
-  std::vector<double> value;
-  int row_size(int i) const { return outer[static_cast<std::size_t>(i) + 1] - outer[static_cast<std::size_t>(i)]; }
-};
-
-// Rows [0, rows) of lhs * diag(w) * rhs (Gustavson, dense accumulator, sorted rows). Columns of
-// lhs beyond rhs.rows are empty rows of rhs (vertices whose row is never needed). The pattern is
-// structural: exact zeros (a right angle's cotangent, lambda = 0) stay, so A_pp's pattern
-// follows from the connectivity alone and can be ordered ahead (bcm_analysis.h).
-Csr scaled_product(const Csr& lhs, const Eigen::VectorXd& w, const Csr& rhs, int rows) {
-  Csr out;
-  out.rows = rows;
-  out.cols = rhs.cols;
-  std::size_t bound = 0;  // upper bound of the result size: reserve once, touch what is used
-  for (int t = 0; t < lhs.outer[static_cast<std::size_t>(rows)]; ++t) {
-    const int j = lhs.inner[static_cast<std::size_t>(t)];
-    if (j < rhs.rows) bound += static_cast<std::size_t>(rhs.row_size(j));
-  }
-  out.inner.reserve(bound);
-  out.value.reserve(bound);
-  out.outer.reserve(static_cast<std::size_t>(rows) + 1);
-  std::vector<double> acc(static_cast<std::size_t>(rhs.cols), 0.0);
-  std::vector<int> mark(static_cast<std::size_t>(rhs.cols), -1);
-  std::vector<int> cols;
-  for (int i = 0; i < rows; ++i) {
-    cols.clear();
-    for (int t = lhs.outer[static_cast<std::size_t>(i)]; t < lhs.outer[static_cast<std::size_t>(i) + 1]; ++t) {
-      const int j = lhs.inner[static_cast<std::size_t>(t)];
-      if (j >= rhs.rows) continue;
-      const double f = lhs.value[static_cast<std::size_t>(t)] * w[j];  // 0 kept: see above
-      for (int u = rhs.outer[static_cast<std::size_t>(j)]; u < rhs.outer[static_cast<std::size_t>(j) + 1]; ++u) {
-        const auto col = static_cast<std::size_t>(rhs.inner[static_cast<std::size_t>(u)]);
-        if (mark[col] != i) {
-          mark[col] = i;
-          acc[col] = 0.0;
-          cols.push_back(static_cast<int>(col));
-        }
-        acc[col] += f * rhs.value[static_cast<std::size_t>(u)];
-      }
-    }
-    std::sort(cols.begin(), cols.end());
-    for (int col : cols) {
-      out.inner.push_back(col);
-      out.value.push_back(acc[static_cast<std::size_t>(col)]);
-    }
-    out.outer.push_back(static_cast<int>(out.inner.size()));
-  }
-  return out;
-}
-
-// Columns [c0, c1) of a CSR matrix as a column-major Eigen matrix, scaled by `sign`.
-Eigen::SparseMatrix<double> column_block(const Csr& x, int c0, int c1, double sign) {
-  std::vector<int> outer(static_cast<std::size_t>(x.rows) + 1, 0);
-  std::vector<int> inner;
-  std::vector<double> value;
-  inner.reserve(x.inner.size());
-  value.reserve(x.inner.size());
-  for (int i = 0; i < x.rows; ++i) {
-    for (int t = x.outer[static_cast<std::size_t>(i)]; t < x.outer[static_cast<std::size_t>(i) + 1]; ++t) {
-      const int col = x.inner[static_cast<std::size_t>(t)];
-      const double v = x.value[static_cast<std::size_t>(t)];
-      if (col < c0 || col >= c1 || (c0 > 0 && v == 0.0)) continue;  // drop exact zeros of A_pc
-      inner.push_back(col - c0);
-      value.push_back(sign * v);
-    }
-    outer[static_cast<std::size_t>(i) + 1] = static_cast<int>(inner.size());
-  }
-  const Eigen::Map<const SpRow> view(x.rows, c1 - c0, static_cast<Eigen::Index>(inner.size()), outer.data(),
-                                     inner.data(), value.data());
-  return Eigen::SparseMatrix<double>(view);  // one transposing copy to column major
-}
-
 int row_count(const Patch& p, int max_dist) {
   int n = 0;
   while (n < static_cast<int>(p.dist.size()) && p.dist[static_cast<std::size_t>(n)] <= max_dist) ++n;
@@ -227,35 +151,56 @@ struct FaceWeights {
 };
 
 FaceWeights face_weights(const Mesh& mesh, const VertexData<Vec3>& positions, const Patch& p, BcmSystem& sys) {
-  std::vector<int> faces;
-  for (int i = 0; i < p.n_inner; ++i)
-    for (Halfedge h : mesh.outgoing(p.order[static_cast<std::size_t>(i)])) {
-      const Face f = mesh.face(h);
-      if (f.is_valid()) faces.push_back(f.idx());
-    }
-  std::sort(faces.begin(), faces.end());
-  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
   FaceWeights out;
   out.local_face = FaceData<int>(static_cast<std::size_t>(mesh.n_faces()), -1);
+  for (int i = 0; i < p.n_inner; ++i)
+    for (Halfedge h : mesh.outgoing(p.order[static_cast<std::size_t>(i)]))
+      if (const Face f = mesh.face(h); f.is_valid()) out.local_face[f] = -2;
+  std::vector<Face> faces;  // in face order
+  for (int f = 0; f < mesh.n_faces(); ++f)
+    if (out.local_face[Face(f)] == -2) {
+      out.local_face[Face(f)] = static_cast<int>(faces.size());
+      faces.emplace_back(f);
+    }
+  std::vector<detail::CornerWeights> weights(faces.size());
   out.cot.assign(faces.size(), {0.0, 0.0, 0.0});
-  out.area = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(p.order.size()));
+  parallel_for(static_cast<std::ptrdiff_t>(faces.size()), 16384, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    for (auto fl = static_cast<std::size_t>(begin); fl < static_cast<std::size_t>(end); ++fl) {
+      const detail::FaceCorners c = detail::face_corners(mesh, faces[fl]);
+      weights[fl] = detail::corner_weights(positions[c.v[0]], positions[c.v[1]], positions[c.v[2]]);
+      // face_corners: corner q lies opposite c.h[q], and c.h = (halfedge(f), next, next).
+      if (!weights[fl].degenerate) out.cot[fl] = weights[fl].cot;
+    }
+  });
   for (std::size_t fl = 0; fl < faces.size(); ++fl) {
-    const Face f(faces[fl]);
-    out.local_face[f] = static_cast<int>(fl);
-    const detail::FaceCorners c = detail::face_corners(mesh, f);
-    const detail::CornerWeights w = detail::corner_weights(positions[c.v[0]], positions[c.v[1]], positions[c.v[2]]);
+    const detail::CornerWeights& w = weights[fl];
     if (w.degenerate) {
-      if (++sys.degenerate_faces <= 5) sys.degenerate_examples.push_back(f.idx());
+      if (++sys.degenerate_faces <= 5) sys.degenerate_examples.push_back(faces[fl].idx());
       continue;
     }
-    // face_corners: corner q lies opposite c.h[q], and c.h = (halfedge(f), next, next).
-    out.cot[fl] = w.cot;
     sys.clamped_cotangents += w.clamped;
-    for (std::size_t q = 0; q < 3; ++q) {
-      out.area[p.local[c.v[q]]] += w.area[q];
-      out.total_area += w.area[q];
-    }
+    for (const double a : w.area) out.total_area += a;
   }
+  // Each vertex's area summed over its faces in face order (the bits of one loop over the faces).
+  out.area = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(p.order.size()));
+  parallel_for(static_cast<std::ptrdiff_t>(p.order.size()), 8192, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    std::vector<std::pair<int, double>> corners;
+    for (auto l = begin; l < end; ++l) {
+      const Vertex v = p.order[static_cast<std::size_t>(l)];
+      corners.clear();
+      for (Halfedge h : mesh.outgoing(v)) {
+        const Face f = mesh.face(h);
+        if (!f.is_valid() || out.local_face[f] < 0) continue;
+        const auto fl = static_cast<std::size_t>(out.local_face[f]);
+        if (weights[fl].degenerate) continue;
+        const detail::FaceCorners c = detail::face_corners(mesh, f);
+        const std::size_t q = c.v[0] == v ? 0 : c.v[1] == v ? 1 : 2;
+        corners.emplace_back(static_cast<int>(fl), weights[fl].area[q]);
+      }
+      std::sort(corners.begin(), corners.end());
+      for (const auto& [fl, a] : corners) out.area[l] += a;
+    }
+  });
   return out;
 }
 
@@ -268,30 +213,25 @@ Csr laplacian_rows(const Mesh& mesh, const Patch& p, const FaceWeights& fw) {
     const int q = h == h0 ? 0 : h == mesh.next(h0) ? 1 : 2;
     return fw.cot[static_cast<std::size_t>(fw.local_face[f])][static_cast<std::size_t>(q)];
   };
-  Csr lap;
-  lap.rows = p.n_inner;
-  lap.cols = static_cast<int>(p.order.size());
-  lap.outer.reserve(static_cast<std::size_t>(p.n_inner) + 1);
-  lap.inner.reserve(static_cast<std::size_t>(p.n_inner) * 8);
-  lap.value.reserve(static_cast<std::size_t>(p.n_inner) * 8);
-  std::vector<std::pair<int, double>> row;
-  for (int i = 0; i < p.n_inner; ++i) {
-    row.clear();
-    double diagonal = 0.0;
-    for (Halfedge h : mesh.outgoing(p.order[static_cast<std::size_t>(i)])) {
-      const double wgt = half_cot(h) + half_cot(mesh.opposite(h));
-      row.emplace_back(p.local[mesh.to_vertex(h)], wgt);
-      diagonal -= wgt;
+  return build_csr(p.n_inner, static_cast<int>(p.order.size()), [&](int begin, int end, CsrBlock& out) {
+    std::vector<std::pair<int, double>> row;
+    for (int i = begin; i < end; ++i) {
+      row.clear();
+      double diagonal = 0.0;
+      for (Halfedge h : mesh.outgoing(p.order[static_cast<std::size_t>(i)])) {
+        const double wgt = half_cot(h) + half_cot(mesh.opposite(h));
+        row.emplace_back(p.local[mesh.to_vertex(h)], wgt);
+        diagonal -= wgt;
+      }
+      row.emplace_back(i, diagonal);
+      std::sort(row.begin(), row.end());
+      for (const auto& [col, v] : row) {
+        out.inner.push_back(col);
+        out.value.push_back(v);
+      }
+      out.row_end.push_back(static_cast<int>(out.inner.size()));
     }
-    row.emplace_back(i, diagonal);
-    std::sort(row.begin(), row.end());
-    for (const auto& [col, v] : row) {
-      lap.inner.push_back(col);
-      lap.value.push_back(v);
-    }
-    lap.outer.push_back(static_cast<int>(lap.inner.size()));
-  }
-  return lap;
+  });
 }
 
 // Lam_m D of each level m = 1 .. k-1 over the (k-1)-ring (smoothness_lambda of each vertex's c
@@ -368,11 +308,11 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
     Csr top = apply_levels(id, y);  // k = 1: the identity's first n_free rows
     top.rows = n_free;
     top.outer.resize(static_cast<std::size_t>(n_free) + 1);
-    sys.outer = column_block(top, 0, n_inner, sign);
+    sys.outer = column_block(top, 0, n_inner, sign, false);
   }
-  sys.lap = column_block(lap, 0, n_loc, 1.0);
-  sys.a_pp = column_block(*s_rows, 0, n_free, sign);
-  sys.a_pc = column_block(*s_rows, n_free, n_loc, sign);
+  sys.lap = column_block(lap, 0, n_loc, 1.0, false);
+  sys.a_pp = column_block(*s_rows, 0, n_free, sign, false);
+  sys.a_pc = column_block(*s_rows, n_free, n_loc, sign, n_free > 0);  // without the exact zeros of A_pc
   sys.constrained.assign(p.order.begin() + n_free, p.order.end());
   sys.symmetric = is_symmetric(sys.a_pp);
   return sys;

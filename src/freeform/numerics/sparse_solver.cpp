@@ -19,6 +19,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
+#include <limits>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -32,35 +34,49 @@ namespace freeform {
 
 using SpMat = Eigen::SparseMatrix<double>;
 
+// Each entry against its mirror, found by binary search in the mirror's column: no transposed
+// copy, columns in parallel.
 bool is_symmetric(const SpMat& a, double tol) {
   if (a.rows() != a.cols()) return false;
-  double max_abs = 0.0;
-  for (int j = 0; j < a.outerSize(); ++j)
-    for (SpMat::InnerIterator it(a, j); it; ++it) max_abs = std::max(max_abs, std::abs(it.value()));
-  if (max_abs == 0.0) return true;
-  const double bound = tol * max_abs;
-  // Column j of A^T is row j of A: merge it with column j of A (both sorted by row index).
-  const SpMat at = a.transpose();
-  for (int j = 0; j < a.outerSize(); ++j) {
-    SpMat::InnerIterator p(a, j);
-    SpMat::InnerIterator q(at, j);
-    while (p || q) {
-      double d;
-      if (p && q && p.index() == q.index()) {
-        d = p.value() - q.value();
-        ++p;
-        ++q;
-      } else if (p && (!q || p.index() < q.index())) {
-        d = p.value();
-        ++p;
-      } else {
-        d = q.value();
-        ++q;
-      }
-      if (!(std::abs(d) <= bound)) return false;
-    }
+  SpMat c;
+  const SpMat* m = &a;
+  if (!a.isCompressed()) {
+    c = a;
+    c.makeCompressed();
+    m = &c;
   }
-  return true;
+  const int n = static_cast<int>(m->cols());
+  const int* outer = m->outerIndexPtr();
+  const int* inner = m->innerIndexPtr();
+  const double* value = m->valuePtr();
+  std::atomic<std::uint64_t> max_bits{0};  // the largest |entry| (non-negative doubles order as their bits)
+  parallel_for(n, 8192, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    double mx = 0.0;
+    for (auto t = outer[begin]; t < outer[end]; ++t) mx = std::max(mx, std::abs(value[t]));
+    const auto bits = std::bit_cast<std::uint64_t>(mx);
+    std::uint64_t seen = max_bits.load();
+    while (bits > seen && !max_bits.compare_exchange_weak(seen, bits)) {}
+  });
+  const double max_abs = std::bit_cast<double>(max_bits.load());
+  if (max_abs == 0.0) return true;
+  if (!(max_abs <= std::numeric_limits<double>::max())) return false;  // NaN or infinite entries
+  const double bound = tol * max_abs;
+  std::atomic<bool> symmetric{true};
+  parallel_for(n, 8192, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    for (auto j = static_cast<int>(begin); j < end && symmetric.load(std::memory_order_relaxed); ++j)
+      for (int t = outer[j]; t < outer[j + 1]; ++t) {
+        const int i = inner[t];
+        const int* first = inner + outer[i];
+        const int* last = inner + outer[i + 1];
+        const int* q = std::lower_bound(first, last, j);
+        const double mirror = q != last && *q == j ? value[q - inner] : 0.0;
+        if (!(std::abs(value[t] - mirror) <= bound)) {
+          symmetric = false;
+          return;
+        }
+      }
+  });
+  return symmetric;
 }
 
 namespace {

@@ -1,0 +1,88 @@
+// Compressed sparse rows built and converted in parallel blocks of rows. Every row is computed
+// on its own and every column keeps its row order, so the results have the bits of a serial
+// build on any number of threads.
+#pragma once
+
+#include <Eigen/Sparse>
+
+#include <algorithm>
+#include <cstddef>
+#include <new>
+#include <utility>
+#include <vector>
+
+namespace freeform {
+
+// Leaves new elements uninitialized: a large array is then first touched by the parallel loop
+// that fills it, not by a serial memset.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() = default;
+  template <class U>
+  explicit UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    if constexpr (sizeof...(Args) == 0)
+      ::new (static_cast<void*>(p)) U;
+    else
+      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+struct Csr {
+  int rows = 0, cols = 0;
+  std::vector<int> outer{0};
+  std::vector<int, UninitializedAllocator<int>> inner;
+  std::vector<double, UninitializedAllocator<double>> value;
+  int row_size(int i) const { return outer[static_cast<std::size_t>(i) + 1] - outer[static_cast<std::size_t>(i)]; }
+};
+
+// Appends the entries of one block's rows; row_end[i - begin] is the block's entry count after
+// row i.
+struct CsrBlock {
+  std::vector<int> inner;
+  std::vector<double> value;
+  std::vector<int> row_end;
+};
+
+// Rows [0, rows) of a rows x cols matrix: fill(begin, end, block) appends rows [begin, end) to
+// the block, sorted by column, one row_end per row. Blocks of a fixed size run on the pool.
+template <class Fill>
+Csr build_csr(int rows, int cols, const Fill& fill);
+
+// Rows [0, rows) of lhs * diag(w) * rhs (Gustavson, sorted rows). Columns of lhs beyond rhs.rows
+// are empty rows of rhs. The pattern is structural: exact zeros (a right angle's cotangent) stay.
+Csr scaled_product(const Csr& lhs, const Eigen::VectorXd& w, const Csr& rhs, int rows);
+
+// Columns [c0, c1) of x as a column-major matrix, scaled by `sign`; with drop_zeros, without
+// its exact zeros.
+Eigen::SparseMatrix<double> column_block(const Csr& x, int c0, int c1, double sign, bool drop_zeros);
+
+namespace detail {
+constexpr int kCsrBlockRows = 4096;
+Csr join_blocks(int rows, int cols, std::vector<CsrBlock>& blocks);
+void run_blocks(int n_blocks, void (*call)(const void*, int), const void* fill);
+}  // namespace detail
+
+template <class Fill>
+Csr build_csr(int rows, int cols, const Fill& fill) {
+  const int n_blocks = (rows + detail::kCsrBlockRows - 1) / detail::kCsrBlockRows;
+  std::vector<CsrBlock> blocks(static_cast<std::size_t>(n_blocks));
+  struct Job {
+    const Fill* fill;
+    std::vector<CsrBlock>* blocks;
+    int rows;
+  } job{&fill, &blocks, rows};
+  detail::run_blocks(n_blocks, [](const void* p, int b) {
+    const Job& j = *static_cast<const Job*>(p);
+    const int begin = b * detail::kCsrBlockRows;
+    (*j.fill)(begin, std::min(j.rows, begin + detail::kCsrBlockRows), (*j.blocks)[static_cast<std::size_t>(b)]);
+  }, &job);
+  return detail::join_blocks(rows, cols, blocks);
+}
+
+}  // namespace freeform
