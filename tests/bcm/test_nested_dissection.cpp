@@ -7,6 +7,7 @@
 
 #include "freeform/bcm/bcm_analysis.h"
 #include "freeform/mesh/generators.h"
+#include "freeform/numerics/coarse_separator.h"
 #include "freeform/numerics/nested_dissection.h"
 
 #include <algorithm>
@@ -43,6 +44,31 @@ TEST(NestedDissection, PartsOrderedConcurrentlyFillLikeMetisOnTheWholeGraph) {
     // A fill-reducing ordering at all: the natural (breadth-first) order fills far more.
     EXPECT_LT(fill, 0.5 * cholesky_fill(lower, identity));
   }
+}
+
+// A separator of a 151-vertex-wide plane's order-3 stencil is at least 3 columns of vertices
+// (a straight cut across it); the coarse one is no edge between the parts, balanced, and close to
+// that cut.
+TEST(NestedDissection, CoarseSeparatorCutsThePlaneNearlyStraight) {
+  const int cells = 150;
+  const Eigen::SparseMatrix<double> lower = plane_pattern(cells, 3);
+  const std::vector<int> side = coarse_separator(lower);
+  ASSERT_EQ(side.size(), static_cast<std::size_t>(lower.rows()));
+  std::array<int, 3> count{};
+  for (int s : side) ++count[static_cast<std::size_t>(s)];
+  for (int j = 0; j < lower.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(lower, j); it; ++it)
+      ASSERT_FALSE(side[static_cast<std::size_t>(j)] + side[static_cast<std::size_t>(it.index())] == 1)
+          << "edge " << j << "-" << it.index() << " joins the parts";
+  EXPECT_GT(count[0], 0.3 * static_cast<double>(lower.rows()));
+  EXPECT_GT(count[1], 0.3 * static_cast<double>(lower.rows()));
+  const int straight = 3 * (cells + 1);
+  EXPECT_GE(count[2], straight * 0.9);
+  EXPECT_LT(count[2], straight * 1.5) << count[2] << " separator vertices";
+  Eigen::SparseMatrix<double> edge(2, 2);  // one cluster: nothing to split
+  edge.insert(0, 0) = edge.insert(1, 0) = edge.insert(1, 1) = 1.0;
+  edge.makeCompressed();
+  EXPECT_TRUE(coarse_separator(edge).empty());
 }
 
 TEST(NestedDissection, SmallGraphsAreOrderedWhole) {
