@@ -22,28 +22,11 @@
 
 using namespace freeform;
 
-namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
-  if (argc < 5) {
-    std::fprintf(stderr, "usage: bench_assembly mesh_name subdivisions free_in_thousands k [repeats]\n");
-    return 2;
-  }
-  const std::optional<bench::ScaleSupport> scene =
-      bench::scale_support(argv[1], std::stoi(argv[2]), std::stoi(argv[3]) * 1000);
-  if (!scene) {
-    std::fprintf(stderr, "too few vertices reachable from vertex 0\n");
-    return 1;
-  }
-  const Mesh& mesh = scene->mesh;
-  const Regions regions(mesh, scene->support, {{scene->handle(), true}});
+  const bench::ScaleSupport scene =
+      bench::scale_support_from_args(argc, argv, "bench_assembly mesh_name subdivisions free_in_thousands k [repeats]");
+  const Mesh& mesh = scene.mesh;
+  const Regions regions(mesh, scene.support, {{scene.handle(), true}});
   const int repeats = argc > 5 ? std::stoi(argv[5]) : 3;
   BcmSettings settings;
   settings.order = std::stoi(argv[4]);
@@ -64,8 +47,9 @@ int main(int argc, char** argv) {
       out["rows"] = sys.a_pp.rows();
       out["nonzeros"] = sys.a_pp.nonZeros();
     }
-    out[split ? "assembly_split_operator" : "assembly"] = {{"wall_ms", median(wall)}, {"cpu_ms", median(cpu)}};
-    if (!split) out["symmetry_check"] = {{"wall_ms", median(check_wall)}, {"cpu_ms", median(check_cpu)}};
+    out[split ? "assembly_split_operator" : "assembly"] = {{"wall_ms", bench::median(wall)},
+                                                           {"cpu_ms", bench::median(cpu)}};
+    if (!split) out["symmetry_check"] = {{"wall_ms", bench::median(check_wall)}, {"cpu_ms", bench::median(check_cpu)}};
   }
   std::cout << out.dump(1) << "\n";
 }

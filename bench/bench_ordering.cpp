@@ -18,26 +18,18 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <optional>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <string>
 
 using namespace freeform;
 
 int main(int argc, char** argv) {
-  if (argc < 5) {
-    std::fprintf(stderr, "usage: bench_ordering mesh_name subdivisions free_in_thousands k [parts...]\n");
-    return 2;
-  }
-  const std::optional<bench::ScaleSupport> scene =
-      bench::scale_support(argv[1], std::stoi(argv[2]), std::stoi(argv[3]) * 1000);
-  if (!scene) {
-    std::fprintf(stderr, "too few vertices reachable from vertex 0\n");
-    return 1;
-  }
-  const Mesh& mesh = scene->mesh;
-  const Regions regions(mesh, scene->support, {{scene->handle(), true}});
+  const bench::ScaleSupport scene = bench::scale_support_from_args(
+      argc, argv, "bench_ordering mesh_name subdivisions free_in_thousands k [parts...]");
+  const Mesh& mesh = scene.mesh;
+  const Regions regions(mesh, scene.support, {{scene.handle(), true}});
   const Eigen::SparseMatrix<double> lower = bcm_lower_pattern(mesh, regions, std::stoi(argv[4]));
   nlohmann::json out = {{"rows", lower.rows()}, {"nonzeros", lower.nonZeros()}, {"threads", thread_budget()}};
   {

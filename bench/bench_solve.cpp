@@ -16,36 +16,19 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <optional>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <random>
 #include <string>
 
 using namespace freeform;
 
-namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
-  if (argc < 5) {
-    std::fprintf(stderr, "usage: bench_solve mesh_name subdivisions free_in_thousands k [repeats]\n");
-    return 2;
-  }
-  const std::optional<bench::ScaleSupport> scene =
-      bench::scale_support(argv[1], std::stoi(argv[2]), std::stoi(argv[3]) * 1000);
-  if (!scene) {
-    std::fprintf(stderr, "too few vertices reachable from vertex 0\n");
-    return 1;
-  }
-  const Mesh& mesh = scene->mesh;
-  const Regions regions(mesh, scene->support, {{scene->handle(), true}});
+  const bench::ScaleSupport scene =
+      bench::scale_support_from_args(argc, argv, "bench_solve mesh_name subdivisions free_in_thousands k [repeats]");
+  const Mesh& mesh = scene.mesh;
+  const Regions regions(mesh, scene.support, {{scene.handle(), true}});
   const int repeats = argc > 5 ? std::stoi(argv[5]) : 5;
   BcmSettings settings;
   settings.order = std::stoi(argv[4]);
@@ -76,8 +59,9 @@ int main(int argc, char** argv) {
     }
     out["columns"].push_back(
         {{"columns", m},
-         {"subtrees_ms", {{"median", median(ours)}, {"min", *std::min_element(ours.begin(), ours.end())}}},
-         {"cholmod_ms", {{"median", median(cholmod)}, {"min", *std::min_element(cholmod.begin(), cholmod.end())}}},
+         {"subtrees_ms", {{"median", bench::median(ours)}, {"min", *std::min_element(ours.begin(), ours.end())}}},
+         {"cholmod_ms",
+          {{"median", bench::median(cholmod)}, {"min", *std::min_element(cholmod.begin(), cholmod.end())}}},
          {"max_relative_difference", difference}});
   }
   std::cout << out.dump(1) << "\n";

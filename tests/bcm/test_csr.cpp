@@ -88,8 +88,8 @@ TEST(Csr, ProductHasTheSerialBitsOverManyBlocks) {
 TEST(Csr, ColumnBlockIsTheColumnMajorCopy) {
   const int n = 7 * detail::kCsrBlockRows + 77;
   const Csr x = random_csr(n, n + 3000, 9, 3);
-  for (const auto& [c0, c1, drop] : {std::tuple{0, n + 3000, false}, std::tuple{0, n, false}, std::tuple{n, n + 3000, true},
-                                     std::tuple{5, 6, true}}) {
+  for (const auto& [c0, c1, drop] : {std::tuple{0, n + 3000, false}, std::tuple{0, n, false},
+                                     std::tuple{n, n + 3000, true}, std::tuple{5, 6, true}}) {
     SCOPED_TRACE(testing::Message() << c0 << ".." << c1 << " drop " << drop);
     std::vector<Eigen::Triplet<double>> kept;
     for (int i = 0; i < n; ++i)

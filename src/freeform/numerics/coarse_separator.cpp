@@ -63,8 +63,9 @@ int cluster_vertices(const Graph& g, std::vector<int>& cluster) {
     candidates.clear();
     for (const int* w = g.begin(v); w != g.end(v); ++w) {
       if (cluster[static_cast<std::size_t>(*w)] >= 0) continue;
-      const auto shared = std::count_if(g.begin(static_cast<std::size_t>(*w)), g.end(static_cast<std::size_t>(*w)),
-                                        [&](int u) { return seed_of[static_cast<std::size_t>(u)] == static_cast<int>(v); });
+      const auto shared =
+          std::count_if(g.begin(static_cast<std::size_t>(*w)), g.end(static_cast<std::size_t>(*w)),
+                        [&](int u) { return seed_of[static_cast<std::size_t>(u)] == static_cast<int>(v); });
       candidates.emplace_back(-static_cast<int>(shared), *w);
     }
     std::sort(candidates.begin(), candidates.end());
@@ -78,7 +79,8 @@ int cluster_vertices(const Graph& g, std::vector<int>& cluster) {
 // METIS's bisection of the cluster graph: per cluster 0, 1 or 2 (separator); empty on failure.
 std::vector<int> bisect_clusters(const Graph& g, const std::vector<int>& cluster, int clusters) {
   std::vector<std::vector<int>> members(static_cast<std::size_t>(clusters));
-  for (std::size_t v = 0; v < g.size(); ++v) members[static_cast<std::size_t>(cluster[v])].push_back(static_cast<int>(v));
+  for (std::size_t v = 0; v < g.size(); ++v)
+    members[static_cast<std::size_t>(cluster[v])].push_back(static_cast<int>(v));
   std::vector<int> p{0}, rows, mark(static_cast<std::size_t>(clusters), -1);
   for (int c = 0; c < clusters; ++c) {  // the lower triangle, column by column
     const std::size_t first = rows.size();

@@ -34,8 +34,8 @@ class Accumulators {
   Slot* take() {
     const std::scoped_lock lock(mutex_);
     if (free_.empty()) {
-      slots_.push_back(std::make_unique<Slot>(Slot{zeroed<double>(static_cast<std::size_t>(cols_)),
-                                                    zeroed<int>(static_cast<std::size_t>(cols_))}));
+      slots_.push_back(std::make_unique<Slot>(
+          Slot{zeroed<double>(static_cast<std::size_t>(cols_)), zeroed<int>(static_cast<std::size_t>(cols_))}));
       return slots_.back().get();
     }
     Slot* s = free_.back();
@@ -85,8 +85,10 @@ Csr join_blocks(int rows, int cols, std::vector<CsrBlock>& blocks) {
   out.value.resize(start.back());
   parallel_for(static_cast<std::ptrdiff_t>(blocks.size()), 1, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
     for (auto b = static_cast<std::size_t>(begin); b < static_cast<std::size_t>(end); ++b) {
-      std::copy(blocks[b].inner.begin(), blocks[b].inner.end(), out.inner.begin() + static_cast<std::ptrdiff_t>(start[b]));
-      std::copy(blocks[b].value.begin(), blocks[b].value.end(), out.value.begin() + static_cast<std::ptrdiff_t>(start[b]));
+      std::copy(blocks[b].inner.begin(), blocks[b].inner.end(),
+                out.inner.begin() + static_cast<std::ptrdiff_t>(start[b]));
+      std::copy(blocks[b].value.begin(), blocks[b].value.end(),
+                out.value.begin() + static_cast<std::ptrdiff_t>(start[b]));
       blocks[b] = CsrBlock{};
     }
   });
@@ -105,7 +107,7 @@ Csr scaled_product(const Csr& lhs, const Eigen::VectorXd& w, const Csr& rhs, int
       for (int t = lhs.outer[static_cast<std::size_t>(i)]; t < lhs.outer[static_cast<std::size_t>(i) + 1]; ++t) {
         const int j = lhs.inner[static_cast<std::size_t>(t)];
         if (j >= rhs.rows) continue;
-        const double f = lhs.value[static_cast<std::size_t>(t)] * w[j];  // 0 kept: see above
+        const double f = lhs.value[static_cast<std::size_t>(t)] * w[j];  // 0 kept: see csr.h
         for (int u = rhs.outer[static_cast<std::size_t>(j)]; u < rhs.outer[static_cast<std::size_t>(j) + 1]; ++u) {
           const auto col = static_cast<std::size_t>(rhs.inner[static_cast<std::size_t>(u)]);
           if (s->mark[col] != i + 1) {

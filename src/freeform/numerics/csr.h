@@ -55,7 +55,9 @@ template <class Fill>
 Csr build_csr(int rows, int cols, const Fill& fill);
 
 // Rows [0, rows) of lhs * diag(w) * rhs (Gustavson, sorted rows). Columns of lhs beyond rhs.rows
-// are empty rows of rhs. The pattern is structural: exact zeros (a right angle's cotangent) stay.
+// are empty rows of rhs. The pattern is structural: exact zeros (a right angle's cotangent,
+// lambda = 0) stay, so the BCM system's pattern follows from the connectivity alone and can be
+// ordered ahead (bcm/bcm_analysis.h).
 Csr scaled_product(const Csr& lhs, const Eigen::VectorXd& w, const Csr& rhs, int rows);
 
 // Columns [c0, c1) of x as a column-major matrix, scaled by `sign`; with drop_zeros, without
@@ -77,11 +79,14 @@ Csr build_csr(int rows, int cols, const Fill& fill) {
     std::vector<CsrBlock>* blocks;
     int rows;
   } job{&fill, &blocks, rows};
-  detail::run_blocks(n_blocks, [](const void* p, int b) {
-    const Job& j = *static_cast<const Job*>(p);
-    const int begin = b * detail::kCsrBlockRows;
-    (*j.fill)(begin, std::min(j.rows, begin + detail::kCsrBlockRows), (*j.blocks)[static_cast<std::size_t>(b)]);
-  }, &job);
+  detail::run_blocks(
+      n_blocks,
+      [](const void* p, int b) {
+        const Job& j = *static_cast<const Job*>(p);
+        const int begin = b * detail::kCsrBlockRows;
+        (*j.fill)(begin, std::min(j.rows, begin + detail::kCsrBlockRows), (*j.blocks)[static_cast<std::size_t>(b)]);
+      },
+      &job);
   return detail::join_blocks(rows, cols, blocks);
 }
 

@@ -20,10 +20,10 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
-#include <limits>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <limits>
 #include <optional>
 #include <string>
 #include <type_traits>
@@ -55,7 +55,8 @@ bool is_symmetric(const SpMat& a, double tol) {
     for (auto t = outer[begin]; t < outer[end]; ++t) mx = std::max(mx, std::abs(value[t]));
     const auto bits = std::bit_cast<std::uint64_t>(mx);
     std::uint64_t seen = max_bits.load();
-    while (bits > seen && !max_bits.compare_exchange_weak(seen, bits)) {}
+    while (bits > seen && !max_bits.compare_exchange_weak(seen, bits)) {
+    }
   });
   const double max_abs = std::bit_cast<double>(max_bits.load());
   if (max_abs == 0.0) return true;
