@@ -1,9 +1,9 @@
 // A fill-reducing ordering of a large symmetric pattern that uses several cores (issue 43).
 // METIS's nested dissection (what CHOLMOD runs for wide stencils) is one thread: 19-25 s of the
 // 1M-free k = 3 precompute. Here the top levels of the dissection are vertex separators (the
-// first from METIS on a coarse graph, numerics/coarse_separator.h; below it METIS's own
-// bisection), each level's parts split concurrently, and the parts below are ordered by METIS
-// concurrently; separators go last, as METIS places them.
+// first, from 100k rows, from METIS on a coarse graph, numerics/coarse_separator.h; the others
+// METIS's own bisection), each level's parts split concurrently, and the parts below are ordered
+// by METIS concurrently; separators go last, as METIS places them.
 #pragma once
 
 #include <Eigen/SparseCore>
