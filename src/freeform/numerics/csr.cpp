@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <memory>
 #include <mutex>
+#include <new>
 
 namespace freeform {
 namespace {
@@ -19,7 +20,9 @@ using Buffer = std::unique_ptr<T[], FreeDeleter>;
 // calloc: fresh pages stay untouched (and unzeroed by us) until a block writes them.
 template <class T>
 Buffer<T> zeroed(std::size_t n) {
-  return Buffer<T>(static_cast<T*>(std::calloc(std::max<std::size_t>(n, 1), sizeof(T))));
+  Buffer<T> out(static_cast<T*>(std::calloc(std::max<std::size_t>(n, 1), sizeof(T))));
+  if (!out) throw std::bad_alloc();
+  return out;
 }
 
 // One dense accumulator per running block, reused by the next block (fresh pages are slow to
