@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <random>
 #include <set>
+#include <stdexcept>
 
 namespace freeform {
 namespace {
@@ -107,6 +108,16 @@ TEST(Csr, ColumnBlockIsTheColumnMajorCopy) {
       ASSERT_EQ(got.valuePtr()[t], want.valuePtr()[t]);
     }
   }
+}
+
+// A block's error (bad_alloc in a real run) comes back to the caller, not std::terminate.
+TEST(Csr, BlockErrorsReachTheCaller) {
+  const int n = 8 * detail::kCsrBlockRows;
+  const auto fill = [](int begin, int end, CsrBlock& out) {
+    if (begin == 5 * detail::kCsrBlockRows) throw std::runtime_error("block 5");
+    out.row_end.assign(static_cast<std::size_t>(end - begin), 0);
+  };
+  EXPECT_THROW(build_csr(n, n, fill), std::runtime_error);
 }
 
 TEST(Csr, LargeSymmetryCheckFindsOneBadEntry) {

@@ -67,12 +67,6 @@ int transpose_blocks(int rows) {
 
 namespace detail {
 
-void run_blocks(int n_blocks, void (*call)(const void*, int), const void* fill) {
-  parallel_for(n_blocks, 1, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
-    for (std::ptrdiff_t b = begin; b < end; ++b) call(fill, static_cast<int>(b));
-  });
-}
-
 Csr join_blocks(int rows, int cols, std::vector<CsrBlock>& blocks) {
   Csr out;
   out.rows = rows;
@@ -139,6 +133,8 @@ Eigen::SparseMatrix<double> column_block(const Csr& x, int c0, int c1, double si
   // Each block counts its entries per column; then those counts become the block's offsets
   // within each column, so every column lists its rows in increasing order.
   std::vector<Buffer<int>> count(static_cast<std::size_t>(n_blocks));
+  // Allocated before the loops: their bodies must not throw.
+  for (Buffer<int>& c : count) c = zeroed<int>(static_cast<std::size_t>(width));
   auto for_kept = [&](int b, auto&& f) {
     for (int i = first_row(b); i < first_row(b + 1); ++i)
       for (int t = x.outer[static_cast<std::size_t>(i)]; t < x.outer[static_cast<std::size_t>(i) + 1]; ++t) {
@@ -150,7 +146,7 @@ Eigen::SparseMatrix<double> column_block(const Csr& x, int c0, int c1, double si
   };
   parallel_for(n_blocks, 1, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
     for (auto b = static_cast<int>(begin); b < end; ++b) {
-      Buffer<int>& c = count[static_cast<std::size_t>(b)] = zeroed<int>(static_cast<std::size_t>(width));
+      Buffer<int>& c = count[static_cast<std::size_t>(b)];
       for_kept(b, [&](int, int col, double) { ++c[static_cast<std::size_t>(col)]; });
     }
   });

@@ -3,10 +3,14 @@
 // build on any number of threads.
 #pragma once
 
+#include "freeform/common/parallel.h"
+
 #include <Eigen/Sparse>
 
 #include <algorithm>
 #include <cstddef>
+#include <exception>
+#include <mutex>
 #include <new>
 #include <utility>
 #include <vector>
@@ -67,26 +71,27 @@ Eigen::SparseMatrix<double> column_block(const Csr& x, int c0, int c1, double si
 namespace detail {
 constexpr int kCsrBlockRows = 4096;
 Csr join_blocks(int rows, int cols, std::vector<CsrBlock>& blocks);
-void run_blocks(int n_blocks, void (*call)(const void*, int), const void* fill);
 }  // namespace detail
 
 template <class Fill>
 Csr build_csr(int rows, int cols, const Fill& fill) {
   const int n_blocks = (rows + detail::kCsrBlockRows - 1) / detail::kCsrBlockRows;
   std::vector<CsrBlock> blocks(static_cast<std::size_t>(n_blocks));
-  struct Job {
-    const Fill* fill;
-    std::vector<CsrBlock>* blocks;
-    int rows;
-  } job{&fill, &blocks, rows};
-  detail::run_blocks(
-      n_blocks,
-      [](const void* p, int b) {
-        const Job& j = *static_cast<const Job*>(p);
+  // parallel_for's body must not throw: the first error (a block's bad_alloc) is rethrown here.
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  parallel_for(n_blocks, 1, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    try {
+      for (auto b = static_cast<int>(lo); b < hi; ++b) {
         const int begin = b * detail::kCsrBlockRows;
-        (*j.fill)(begin, std::min(j.rows, begin + detail::kCsrBlockRows), (*j.blocks)[static_cast<std::size_t>(b)]);
-      },
-      &job);
+        fill(begin, std::min(rows, begin + detail::kCsrBlockRows), blocks[static_cast<std::size_t>(b)]);
+      }
+    } catch (...) {
+      const std::scoped_lock lock(error_mutex);
+      if (!error) error = std::current_exception();
+    }
+  });
+  if (error) std::rethrow_exception(error);
   return detail::join_blocks(rows, cols, blocks);
 }
 

@@ -318,29 +318,24 @@ void backward_panels(const double* l, int nrow, int ncol, double* x, int ld, boo
   }
 }
 
+// One chunk of W right-hand sides through a supernode. panels: a top supernode large enough to
+// split its rows among the pool's threads.
+template <bool Forward, int W>
+void chunk_kernel(const Block& b, double* x, int mp, bool wide_kernels, bool panels) {
+  if constexpr (Forward)
+    panels ? forward_panels<W>(b.l, b.nrow, b.ncol, x, mp, wide_kernels)
+           : forward_chunk<W>(b.l, b.nrow, b.nrow, b.ncol, x, mp, wide_kernels);
+  else
+    panels ? backward_panels<W>(b.l, b.nrow, b.ncol, x, mp, wide_kernels)
+           : backward_chunk<W>(b.l, b.nrow, b.nrow, b.ncol, x, mp, wide_kernels);
+}
+
 // The right-hand sides in chunks of 8 (the last one 4 wide where that is all that is left).
-// panels: a top supernode large enough to split its rows among the pool's threads.
 template <bool Forward>
 void block_kernel(const Block& b, double* x, int mp, bool wide_kernels, bool panels) {
-  for (int j = 0; j < mp; j += 8) {
-    const bool eight = mp - j >= 8;
-    double* xj = x + j;
-    if constexpr (Forward) {
-      if (panels)
-        eight ? forward_panels<8>(b.l, b.nrow, b.ncol, xj, mp, wide_kernels)
-              : forward_panels<4>(b.l, b.nrow, b.ncol, xj, mp, wide_kernels);
-      else
-        eight ? forward_chunk<8>(b.l, b.nrow, b.nrow, b.ncol, xj, mp, wide_kernels)
-              : forward_chunk<4>(b.l, b.nrow, b.nrow, b.ncol, xj, mp, wide_kernels);
-    } else {
-      if (panels)
-        eight ? backward_panels<8>(b.l, b.nrow, b.ncol, xj, mp, wide_kernels)
-              : backward_panels<4>(b.l, b.nrow, b.ncol, xj, mp, wide_kernels);
-      else
-        eight ? backward_chunk<8>(b.l, b.nrow, b.nrow, b.ncol, xj, mp, wide_kernels)
-              : backward_chunk<4>(b.l, b.nrow, b.nrow, b.ncol, xj, mp, wide_kernels);
-    }
-  }
+  for (int j = 0; j < mp; j += 8)
+    mp - j >= 8 ? chunk_kernel<Forward, 8>(b, x + j, mp, wide_kernels, panels)
+                : chunk_kernel<Forward, 4>(b, x + j, mp, wide_kernels, panels);
 }
 
 // Top supernodes with at least this many rows below a panel go by panels.
