@@ -57,6 +57,9 @@ struct Config {
   int order = 2;
   bool multiresolution = true;
   bool c0 = false;  // boundary smoothness 0 on both sides (default: k - 1)
+  // NonlinearOptions: rotation_smoothing, max_iterations, preserve_volume
+  int smoothing = -1, max_iterations = 100;
+  bool volume = true;
 };
 
 // Largest growth of an edge's dihedral angle (degrees) and the collapse counts.
@@ -109,6 +112,9 @@ Edit configured(const Edit& edit, const Config& c) {
   e.multiresolution = c.multiresolution;
   if (c.c0) e.settings.smoothness.outer = e.settings.smoothness.inner = 0.0;
   e.deformation = Deformation::Nonlinear;
+  e.nonlinear.rotation_smoothing = c.smoothing;
+  e.nonlinear.max_iterations = c.max_iterations;
+  e.nonlinear.preserve_volume = c.volume;
   return e;
 }
 
@@ -370,7 +376,9 @@ int main(int argc, char** argv) try {
                                  {"k3", 3, true, false},
                                  {"k2 multires off", 2, false, false},
                                  {"k3 multires off", 3, false, false},
-                                 {"k2 C0", 2, true, true}};
+                                 {"k2 C0", 2, true, true},
+                                 {"k1 arap", 1, false, false, 0, 1000, false}};
+  if (o.configs.empty()) configs.pop_back();  // "k1 arap" (order 1, the 1-ring fit: ARAP itself) on request
   if (!o.configs.empty())
     std::erase_if(configs, [&](const Config& c) { return std::find(o.configs.begin(), o.configs.end(), c.name) == o.configs.end(); });
   nlohmann::json out = nlohmann::json::array();

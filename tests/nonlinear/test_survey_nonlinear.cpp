@@ -77,7 +77,8 @@ TEST(SurveyNonlinear, BarTwist135) {
 }
 
 // Without the volume term the model keeps lengths like ARAP and the twisted bar necks
-// (measured 0.857 / 0.825 for k = 2 / 3; ARAP 0.72): still no fold and no collapse.
+// (measured 0.741 / 0.717 for k = 2 / 3 since the spokes-and-rims membrane, 0.857 / 0.825
+// before; ARAP 0.72): still no fold and no collapse.
 TEST(SurveyNonlinear, WithoutTheVolumeTermTheBarNecks) {
   for (int k : {2, 3}) {
     const Result r = run(bar_twist(), k, Deformation::Nonlinear, false);
@@ -85,7 +86,7 @@ TEST(SurveyNonlinear, WithoutTheVolumeTermTheBarNecks) {
     EXPECT_EQ(r.folds, 0);
     EXPECT_GE(r.min_sv, 0.6);
     EXPECT_LT(r.volume_ratio, 0.87);
-    EXPECT_GT(r.volume_ratio, 0.8);
+    EXPECT_GT(r.volume_ratio, 0.68);
   }
 }
 

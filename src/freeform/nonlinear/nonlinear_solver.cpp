@@ -5,6 +5,7 @@
 #include "freeform/common/parallel.h"
 #include "freeform/nonlinear/anderson.h"
 #include "freeform/nonlinear/enclosed_volume.h"
+#include "freeform/nonlinear/face_fans.h"
 #include "freeform/nonlinear/rotation.h"
 
 #include <Eigen/SVD>
@@ -21,9 +22,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr int kParallelRows = 2048;
-// Positive part of the cotangent weights, plus this fraction of their mean so that no edge of a
-// needle triangle drops out of the rotation fit entirely.
-constexpr double kWeightFloor = 1e-3;
 // Automatic rotation smoothing: passes grow with the support's width in edges (~sqrt of its
 // vertex count), so the smoothed patch covers a similar part of it at any resolution (each
 // pass widens the fit's kernel by about a ring's square root). Measured (docs/nonlinear.md):
@@ -35,10 +33,16 @@ constexpr double kWeightFloor = 1e-3;
 // The cap bounds the cost per iteration.
 constexpr double kSmoothingPerSqrtFree = 0.15, kBaseSmoothingPerSqrtFree = 0.25;
 constexpr int kMinSmoothingRings = 3, kMinBaseSmoothingRings = 2, kMaxSmoothingRings = 64;
-// Automatic membrane weight (NonlinearOptions::membrane): kMembrane at kMembraneFree free
+// Automatic membrane weight (NonlinearOptions::membrane): kMembrane[k] at kMembraneFree free
 // vertices, so that the membrane's length grows as sqrt(free) like the fit's width. Measured on
-// the gallery (docs/nonlinear.md): 0.003-0.3 all help k = 3; more than 0.01 folds k = 2 more.
-constexpr double kMembrane = 0.01, kMembraneFree = 500.0, kMaxMembrane = 0.1;
+// the gallery (docs/nonlinear.md, 12): with the spokes-and-rims membrane, 0.1 at k = 2 collapses
+// 16 % fewer faces than 0.01 and folds as many edges; at k = 3, 0.03 folds more than 0.01.
+constexpr double kMembrane[] = {0.0, 0.0, 0.1, 0.01}, kMembraneFree = 500.0, kMaxMembrane = 0.1;
+// The membrane turns with its own 1-ring rotations (ARAP's) at k = 2, and at k = 3 up to this
+// many free vertices; beyond, with the bending term's smoothed field: on the editor benchmark's
+// 35k-vertex drags the 1-ring rotations took 57-75 iterations to settle instead of 28-36, and the
+// gallery's k = 3 counts were the same with this limit as without it.
+constexpr int kLocalMembraneMaxFree = 10000;
 // Largest uniform scale (and smallest, its inverse) of a handle the model spreads (start()).
 constexpr double kMaxHandleScale = 1000.0;
 
@@ -98,7 +102,7 @@ struct NonlinearSolver::Data {
   // CSR: 1-ring (local indices) of each row of sys->lap: the free vertices, then the
   // constrained (k-1)-ring, whose covariances the smoothing passes also sum (fit_rotations()).
   std::vector<int> nbr_offset, nbr;
-  std::vector<double> nbr_w;         // positive cotangent weights for the rotation fit
+  std::optional<FaceFans> fans;      // the rows' triangle fans: the rotation fit and ARAP's right-hand side
   double extent = 1.0;
   int smoothing_rings = 0;           // NonlinearOptions::rotation_smoothing, resolved
   // Per local vertex: rotation times scale (free: fitted, warm-started; constrained: the
@@ -174,27 +178,21 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
     d.phi.col(m) = linear.basis().middleCols(4 * m, 4).rowwise().sum().cwiseMax(0.0).cwiseMin(1.0);
 
   // The 1-ring of each free vertex and of the constrained (k-1)-ring (the rows of the operator's
-  // Laplacian), with the positive part of its cotangent weights.
+  // Laplacian), whose covariances the smoothing passes sum, and their triangle fans.
   d.nbr_offset.assign(1, 0);
   for (int i = 0; i < d.n_inner; ++i) {
-    const std::size_t first = d.nbr.size();
-    double sum = 0.0;
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(d.sys->lap, i); it; ++it) {
-      if (it.col() == i) continue;
-      d.nbr.push_back(static_cast<int>(it.col()));
-      d.nbr_w.push_back(std::max(it.value(), 0.0));
-      sum += d.nbr_w.back();
-    }
-    const std::size_t n = d.nbr.size() - first;
-    const double floor = n > 0 ? kWeightFloor * (sum > 0.0 ? sum / static_cast<double>(n) : 1.0) : 0.0;
-    for (std::size_t k = first; k < d.nbr.size(); ++k) d.nbr_w[k] += floor;
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(d.sys->lap, i); it; ++it)
+      if (it.col() != i) d.nbr.push_back(static_cast<int>(it.col()));
     d.nbr_offset.push_back(static_cast<int>(d.nbr.size()));
   }
+  std::vector<Vertex> global(free.begin(), free.end());
+  global.insert(global.end(), d.sys->constrained.begin(), d.sys->constrained.end());
+  d.fans.emplace(mesh, local, global, d.rest.data(), d.sys->lap);
   double membrane = options.membrane;
   if (membrane < 0.0)  // automatic; order 1 is a membrane already
-    membrane = d.sys->order < 2 ? 0.0
-                                : std::min(kMembrane * std::pow(kMembraneFree / std::max(p, 1), d.sys->order - 1),
-                                           kMaxMembrane);
+    membrane = std::min(kMembrane[std::clamp(d.sys->order, 0, 3)] *
+                            std::pow(kMembraneFree / std::max(p, 1), std::max(d.sys->order - 1, 0)),
+                        kMaxMembrane);
   if (membrane > 0.0 && p > 0) add_membrane(membrane);
   d.q.assign(static_cast<std::size_t>(p + c), Eigen::Quaterniond::Identity());
   d.guide.assign(static_cast<std::size_t>(p), Eigen::Quaterniond::Identity());
@@ -304,16 +302,20 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
     const auto field = [](const std::vector<Eigen::Matrix3d>& r) {
       return [&r](Eigen::Index i) -> const Eigen::Matrix3d& { return r[static_cast<std::size_t>(i)]; };
     };
-    rotated_edges(lap, d.rest.data(), n_inner, p, field(d.rot), d.b1);
+    if (d.sys->order == 1)  // the operator is ARAP's: its own right-hand side
+      arap_rows(d.rot, d.b1);
+    else
+      rotated_edges(lap, d.rest.data(), n_inner, p, field(d.rot), d.b1);
     Eigen::MatrixXd rhs = d.sys->outer * d.b1 - d.ac;
     if (!d.local_membrane) {
       if (d.mu != 0.0) rhs += d.mu * d.b1.topRows(p);
     } else {
-      parallel_rows(p, [&](int i) {
+      parallel_rows(n_local, [&](int i) {
         const auto ui = static_cast<std::size_t>(i);
-        d.rot_local[ui] = d.scale[ui] * d.q_local[ui].toRotationMatrix() - Eigen::Matrix3d::Identity();
+        d.rot_local[ui] =
+            i < p ? d.scale[ui] * d.q_local[ui].toRotationMatrix() - Eigen::Matrix3d::Identity() : d.rot[ui];
       });
-      rotated_edges(lap, d.rest.data(), p, p, field(d.rot_local), d.b_mem);
+      arap_rows(d.rot_local, d.b_mem);
       rhs += d.mu * d.b_mem;
     }
     const Eigen::MatrixXd disp = d.sys->solver.solve(rhs);
@@ -387,15 +389,25 @@ void NonlinearSolver::add_membrane(double weight) {
   d.sys->solver = SparseSolver(std::move(app), symmetric);
   d.sys->a_pc.swap(apc);
   d.mu = mu;
-  // Measured on the gallery (docs/nonlinear.md): at k = 2 the membrane with the 1-ring
-  // rotations collapses 30 % fewer faces than with the smoothed ones, as many folds; at k = 3
-  // it folds nearly twice as many edges and converges worse.
-  d.local_membrane = d.sys->order == 2;
+  // Measured on the gallery (docs/nonlinear.md, 12): with the 1-ring rotations the membrane is
+  // ARAP itself, and k = 3 collapses 34 % fewer faces than with the smoothed ones, as many folds
+  // (with the spokes-only ARAP of before it folded twice as many).
+  d.local_membrane = d.sys->order == 2 || p <= kLocalMembraneMaxFree;
   if (d.local_membrane) {
     d.q_local.assign(static_cast<std::size_t>(p), Eigen::Quaterniond::Identity());
-    d.rot_local.resize(static_cast<std::size_t>(p));
+    d.rot_local.resize(static_cast<std::size_t>(p) + d.owner.size());  // the constrained ones: their own
     d.b_mem.resize(p, 3);
   }
+}
+
+// ARAP's rotated minus rest Laplacian coordinates of the free rows (face_fans.h): the edges to
+// constrained vertices turn with the mean of both ends, as in ARAP's energy (the bending term's
+// C^(k-1) boundary rule is not the membrane's: with it, our order 1 folded 2,075 edges of the
+// gallery instead of 974; docs/nonlinear.md, "What the gallery found", 12).
+void NonlinearSolver::arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out) const {
+  const Data& d = *d_;
+  out.resize(n_free_, 3);
+  parallel_rows(n_free_, [&](int i) { out.row(i) = d.fans->rotated(i, d.rest.data(), rot).transpose(); });
 }
 
 void NonlinearSolver::keep_volumes() {
@@ -423,15 +435,7 @@ void NonlinearSolver::fit_rotations() {
   const int p = n_free_;
   const double* x = d.x.data();
   const double* xr = d.rest.data();
-  parallel_rows(d.n_inner, [&](int i) {
-    Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
-    const Vec3 xi = row(x, i), ri = row(xr, i);
-    for (int k = d.nbr_offset[static_cast<std::size_t>(i)]; k < d.nbr_offset[static_cast<std::size_t>(i) + 1]; ++k) {
-      const int j = d.nbr[static_cast<std::size_t>(k)];
-      s += d.nbr_w[static_cast<std::size_t>(k)] * (row(x, j) - xi) * (row(xr, j) - ri).transpose();
-    }
-    d.cov[static_cast<std::size_t>(i)] = s;
-  });
+  parallel_rows(d.n_inner, [&](int i) { d.cov[static_cast<std::size_t>(i)] = d.fans->covariance(i, x, xr); });
   if (d.local_membrane)  // the membrane's rotations: the 1-ring alone
     parallel_rows(p, [&](int i) {
       extract_rotation(d.cov[static_cast<std::size_t>(i)], d.q_local[static_cast<std::size_t>(i)]);

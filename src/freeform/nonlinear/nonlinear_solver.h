@@ -51,15 +51,15 @@ struct NonlinearOptions {
   // Keep the enclosed volume of every closed component with free vertices (times the mean
   // cube of the handles' scale field); open meshes are not affected.
   bool preserve_volume = true;
-  // Weight of a membrane term (ARAP's energy, the same rotated edges) added to the global step's
-  // k-harmonic one, relative to the operator at the scale of a ring (0: none; -1: automatic,
-  // 0.01 (500 / free)^(k-1), at most 0.1: a membrane length that grows with the support like the
-  // fit's width). The order-k energy sees only the Laplacian coordinates, which are nearly zero on
-  // smooth parts: it lets the inside of a bend or a twisted limb compress freely. At k = 2 the
-  // membrane's edges turn with their own 1-ring rotations (ARAP's), at k = 3 with the smoothed
-  // ones. Costs one more factorization at the start. Measured (docs/nonlinear.md, "Gallery"):
-  // 31 % (k = 2) and 35 % (k = 3) fewer collapsed faces; the whole-cactus bend and the k = 3
-  // pulls are clean.
+  // Weight of a membrane term (ARAP's energy) added to the global step's k-harmonic one, relative
+  // to the operator at the scale of a ring (0: none; -1: automatic, 0.1 (500 / free) at k = 2 and
+  // 0.01 (500 / free)^2 at k = 3, at most 0.1: a membrane length that grows with the support like
+  // the fit's width). The order-k energy sees only the Laplacian coordinates, which are nearly zero on
+  // smooth parts: it lets the inside of a bend or a twisted limb compress freely. The membrane is
+  // ARAP's spokes-and-rims energy (face_fans.h); its edges turn with their own 1-ring rotations
+  // (ARAP's) at k = 2 and at k = 3 up to 10k free vertices, beyond with the smoothed ones. Costs
+  // one more factorization at the start. Measured (docs/nonlinear.md, "Gallery"): about half the
+  // collapsed faces of the model without it; the whole-cactus bend and the k = 3 pulls are clean.
   double membrane = -1.0;
   // Images of the local/global map combined by Anderson acceleration (anderson.h; 0: plain
   // iteration). Measured (docs/nonlinear.md): a third to two thirds fewer iterations on the
@@ -112,6 +112,7 @@ class NonlinearSolver final : public IterativeModel {
   void fit_rotations();
   void keep_volumes();
   void add_membrane(double weight);
+  void arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out) const;
 };
 
 // The model for MultiresOptions::model: the nonlinear model on the multiresolution base,

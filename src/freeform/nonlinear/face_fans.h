@@ -1,0 +1,49 @@
+// The triangle fans of the nonlinear model's rows, for ARAP's spokes-and-rims energy (Chao et
+// al. 2010; CGAL's Surface_mesh_deformation default): each vertex's cell is its fan of
+// triangles with all three edges of each, not only the spokes to its neighbours. Measured on
+// the gallery (docs/nonlinear.md, "What the gallery found", 12): order 1 with the 1-ring fit
+// folds 2,731 edges with the spokes and 974 with this (CGAL's ARAP: 1,093).
+#pragma once
+
+#include "freeform/mesh/mesh.h"
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <span>
+#include <vector>
+
+namespace freeform {
+
+class FaceFans {
+ public:
+  using Laplacian = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+  // Rows [0, lap.rows()) in the local numbering of `lap` (local[v], -1 outside the patch;
+  // global[i]: local vertex i's mesh vertex). A face enters a row's fan when all its corners
+  // are local. `rest`: the local rest positions (3 per vertex), whose cotangents weight the fit.
+  FaceFans(const Mesh& mesh, const VertexData<int>& local, std::span<const Vertex> global, const double* rest,
+           const Laplacian& lap);
+
+  // The rotation fit's covariance of row i: sum over its fan of w_ab (x_a - x_b)(r_a - r_b)^T
+  // for the three edges of each face, w the positive part of the cotangent opposite the edge
+  // plus a floor (so that no edge of a needle triangle drops out of the fit).
+  Eigen::Matrix3d covariance(int i, const double* x, const double* rest) const;
+
+  // ARAP's right-hand side of row i (a free row) as rotated minus rest Laplacian coordinates:
+  // each face's two edges at i turned by the mean of its three corners' rot (scale times
+  // rotation minus the identity; constrained corners with their own), the gradient of the
+  // spokes-and-rims energy. lap's weight of each edge is split between its faces in proportion
+  // to their |cotangent|, so a common rot of all corners gives rot * (lap rest)_i exactly.
+  Eigen::Vector3d rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& rot) const;
+
+ private:
+  struct Face {
+    int j, n;           // the other corners, counter-clockwise from i
+    double wj, wn;      // lap's weight of edges (i, j) and (i, n) carried by this face
+    double cj, cn, ci;  // fit weights of edges (i, j), (i, n), (j, n)
+  };
+  std::vector<int> offset_;
+  std::vector<Face> faces_;
+};
+
+}  // namespace freeform
