@@ -1,8 +1,8 @@
 // The triangle fans of the nonlinear model's rows, for ARAP's spokes-and-rims energy (Chao et
 // al. 2010; CGAL's Surface_mesh_deformation default): each vertex's cell is its fan of
-// triangles with all three edges of each, not only the spokes to its neighbours. Measured on
-// the gallery (docs/nonlinear.md, "What the gallery found", 12): order 1 with the 1-ring fit
-// folds 2,731 edges with the spokes and 974 with this (CGAL's ARAP: 1,093).
+// triangles with all three edges of each, not only the spokes to its neighbours. With it our
+// order 1 with the 1-ring fit folds no more than CGAL's ARAP on the gallery, where the spokes
+// folded 2.5 times as much (docs/nonlinear.md, "What the gallery found", 12).
 #pragma once
 
 #include "freeform/mesh/mesh.h"

@@ -402,8 +402,8 @@ void NonlinearSolver::add_membrane(double weight) {
 
 // ARAP's rotated minus rest Laplacian coordinates of the free rows (face_fans.h): the edges to
 // constrained vertices turn with the mean of both ends, as in ARAP's energy (the bending term's
-// C^(k-1) boundary rule is not the membrane's: with it, our order 1 folded 2,075 edges of the
-// gallery instead of 974; docs/nonlinear.md, "What the gallery found", 12).
+// C^(k-1) boundary rule is not the membrane's: with it, our order 1 folded twice as many edges
+// of the gallery; docs/nonlinear.md, "What the gallery found", 12).
 void NonlinearSolver::arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out) const {
   const Data& d = *d_;
   out.resize(n_free_, 3);

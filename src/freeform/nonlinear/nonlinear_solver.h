@@ -6,7 +6,9 @@
 //
 //   A_pp x_p = outer * b(R) - A_pc x_c,   b_i(R) = sum_j w_ij (s_i R_i + s_j R_j) / 2 (x_j - x_i)_rest
 //
-// so order k and the boundary smoothness keep their meaning. It alternates a global step (one
+// so order k and the boundary smoothness keep their meaning. At order 1 (ARAP's operator) and
+// in the membrane term b(R) is ARAP's spokes-and-rims right-hand side instead (face_fans.h),
+// whose edges to constrained vertices turn with the mean of both ends. It alternates a global step (one
 // back-substitution with BCM's own factorization; one more per closed component to keep its
 // volume, enclosed_volume.h) and a local step (R_i fitted to the edges of a neighbourhood
 // that grows with the support, Newton steps from the last rotation, parallel); Anderson
