@@ -54,8 +54,8 @@ struct NonlinearOptions {
   // cube of the handles' scale field); open meshes are not affected.
   bool preserve_volume = true;
   // Weight of a membrane term (ARAP's energy) added to the global step's k-harmonic one, relative
-  // to the operator at the scale of a ring (0: none; -1: automatic, 0.1 (500 / free) at k = 2 and
-  // 0.01 (500 / free)^2 at k = 3, at most 0.1: a membrane length that grows with the support like
+  // to the operator at the scale of a ring (0: none; -1: automatic, 0.3 (500 / free) at k = 2 and
+  // 0.01 (500 / free)^2 at k = 3, at most 0.3: a membrane length that grows with the support like
   // the fit's width). The order-k energy sees only the Laplacian coordinates, which are nearly zero on
   // smooth parts: it lets the inside of a bend or a twisted limb compress freely. The membrane is
   // ARAP's spokes-and-rims energy (face_fans.h); its edges turn with their own 1-ring rotations
