@@ -60,6 +60,7 @@ struct Config {
   // NonlinearOptions: rotation_smoothing, max_iterations, preserve_volume
   int smoothing = -1, max_iterations = 100;
   bool volume = true;
+  bool on_request = false;  // run only when named with --config
 };
 
 // Largest growth of an edge's dihedral angle (degrees) and the collapse counts.
@@ -377,10 +378,12 @@ int main(int argc, char** argv) try {
                                  {"k2 multires off", 2, false, false},
                                  {"k3 multires off", 3, false, false},
                                  {"k2 C0", 2, true, true},
-                                 {"k1 arap", 1, false, false, 0, 1000, false}};
-  if (o.configs.empty()) configs.pop_back();  // "k1 arap" (order 1, the 1-ring fit: ARAP itself) on request
-  if (!o.configs.empty())
-    std::erase_if(configs, [&](const Config& c) { return std::find(o.configs.begin(), o.configs.end(), c.name) == o.configs.end(); });
+                                 // order 1 with the 1-ring fit and no volume term: ARAP's own alternation
+                                 {"k1 arap", 1, false, false, 0, 1000, false, true}};
+  std::erase_if(configs, [&](const Config& c) {
+    return o.configs.empty() ? c.on_request
+                             : std::find(o.configs.begin(), o.configs.end(), c.name) == o.configs.end();
+  });
   nlohmann::json out = nlohmann::json::array();
   for (const Shape& s : gallery(o)) {
     if (s.name.find(o.only) == std::string::npos) continue;

@@ -1,6 +1,9 @@
 #include "freeform/nonlinear/face_fans.h"
 
+#include "freeform/operators/face_geometry.h"
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace freeform {
@@ -13,29 +16,25 @@ Eigen::Map<const Vec> row(const double* p, int i) {
 
 // Fit weight floor (cotangent units): no edge of a needle triangle drops out of the fit.
 constexpr double kFitFloor = 1e-3;
-constexpr double kCotClamp = 1e5;  // as the operators' cotangents (operators/face_geometry.h)
-
-// Cotangent of the corner at a of triangle (a, b, c).
-double cot(const double* rest, int a, int b, int c) {
-  const Vec u = row(rest, b) - row(rest, a), v = row(rest, c) - row(rest, a);
-  return std::clamp(u.dot(v) / std::max(u.cross(v).norm(), 1e-300), -kCotClamp, kCotClamp);
-}
-
-double fit_weight(double c) { return std::max(c, 0.0) + kFitFloor; }
+double fit_weight(double cot) { return std::max(cot, 0.0) + kFitFloor; }
 
 }  // namespace
 
 FaceFans::FaceFans(const Mesh& mesh, const VertexData<int>& local, std::span<const Vertex> global, const double* rest,
                    const Laplacian& lap) {
   offset_.assign(1, 0);
+  std::vector<std::array<double, 2>> cots;  // per face of the row's fan: |cot| at n and at j
   for (int i = 0; i < static_cast<int>(lap.rows()); ++i) {
     const std::size_t first = faces_.size();
+    cots.clear();
     for (Halfedge h : mesh.outgoing(global[static_cast<std::size_t>(i)])) {
       if (!mesh.face(h).is_valid()) continue;
       const int j = local[mesh.to_vertex(h)], n = local[mesh.to_vertex(mesh.next(h))];
-      if (j >= 0 && n >= 0)
-        faces_.push_back({j, n, 0.0, 0.0, fit_weight(cot(rest, n, i, j)), fit_weight(cot(rest, j, i, n)),
-                          fit_weight(cot(rest, i, j, n))});
+      if (j < 0 || n < 0) continue;
+      // The operators' clamped cotangents (0 on a degenerate face); corner k weights the opposite edge.
+      const detail::CornerWeights w = detail::corner_weights(row(rest, i), row(rest, j), row(rest, n));
+      faces_.push_back({j, n, 0.0, 0.0, fit_weight(w.cot[2]), fit_weight(w.cot[1]), fit_weight(w.cot[0])});
+      cots.push_back({std::abs(w.cot[2]), std::abs(w.cot[1])});
     }
     // Each edge's weight in lap, split between the faces of the fan that hold it.
     const std::span<Face> fan(faces_.data() + first, faces_.size() - first);
@@ -44,14 +43,14 @@ FaceFans::FaceFans(const Mesh& mesh, const VertexData<int>& local, std::span<con
       if (j == i) continue;
       double sum = 0.0;
       int count = 0;
-      for (const Face& f : fan) {
-        if (f.j == j) sum += std::abs(cot(rest, f.n, i, j)), ++count;
-        if (f.n == j) sum += std::abs(cot(rest, f.j, i, f.n)), ++count;
+      for (std::size_t k = 0; k < fan.size(); ++k) {
+        if (fan[k].j == j) sum += cots[k][0], ++count;
+        if (fan[k].n == j) sum += cots[k][1], ++count;
       }
-      for (Face& f : fan) {
-        const bool even = !(sum > 1e-12);
-        if (f.j == j) f.wj = e.value() * (even ? 1.0 / count : std::abs(cot(rest, f.n, i, j)) / sum);
-        if (f.n == j) f.wn = e.value() * (even ? 1.0 / count : std::abs(cot(rest, f.j, i, f.n)) / sum);
+      const bool even = !(sum > 1e-12);
+      for (std::size_t k = 0; k < fan.size(); ++k) {
+        if (fan[k].j == j) fan[k].wj = e.value() * (even ? 1.0 / count : cots[k][0] / sum);
+        if (fan[k].n == j) fan[k].wn = e.value() * (even ? 1.0 / count : cots[k][1] / sum);
       }
     }
     offset_.push_back(static_cast<int>(faces_.size()));

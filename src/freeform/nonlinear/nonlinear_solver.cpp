@@ -391,7 +391,7 @@ void NonlinearSolver::add_membrane(double weight) {
   d.sys->a_pc.swap(apc);
   d.mu = mu;
   // Measured on the gallery (docs/nonlinear.md, 12): with the 1-ring rotations the membrane is
-  // ARAP itself, and k = 3 collapses 34 % fewer faces than with the smoothed ones, as many folds
+  // ARAP itself, and k = 3 collapses a third fewer faces than with the smoothed ones, as many folds
   // (with the spokes-only ARAP of before it folded twice as many).
   d.local_membrane = d.sys->order == 2 || p <= kLocalMembraneMaxFree;
   if (d.local_membrane) {
