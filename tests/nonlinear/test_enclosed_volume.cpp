@@ -99,7 +99,7 @@ TEST(EnclosedVolumes, MultiplierReachesTheTargetOfTheScaleField) {
   const Eigen::Affine3d t(Eigen::Scaling(1.5));
   std::vector<double> scale(static_cast<std::size_t>(s.x.rows()), 1.5);
   const double handle_scale[] = {1.5};
-  v.start(std::span(&t, 1), scale, handle_scale);
+  v.start(std::span(&t, 1), scale, handle_scale, s.x);
   int fixed = 0;
   for (Vertex w : s.mesh.vertices()) fixed += s.local[w] < 0;
   const double mean_cube = (fixed + 3.375 * static_cast<double>(s.x.rows())) / static_cast<double>(fixed + s.x.rows());
@@ -160,7 +160,7 @@ TEST(EnclosedVolumes, MultiplierIsTheRootNearestToZero) {
     const Eigen::Affine3d t(Eigen::Scaling(scale));
     const std::vector<double> scales(static_cast<std::size_t>(s.x.rows()), scale);
     const double handle_scale[] = {scale};
-    v.start(std::span(&t, 1), scales, handle_scale);
+    v.start(std::span(&t, 1), scales, handle_scale, s.x);
     // The target from a multiplier at the rest shape along the radial field (exact there).
     Eigen::MatrixXd radial = s.x.topRows(s.n_free);
     Rows r = s.x;

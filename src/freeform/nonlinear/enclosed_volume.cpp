@@ -1,5 +1,6 @@
 #include "freeform/nonlinear/enclosed_volume.h"
 
+#include "freeform/common/parallel.h"
 #include "freeform/mesh/traversal.h"
 #include "freeform/numerics/cubic.h"
 
@@ -12,6 +13,26 @@ namespace {
 // The largest move of a volume correction, in multiples of the even offset that restores the
 // volume (EnclosedVolumes::multiplier).
 constexpr double kVolumeEfficiency = 16.0;
+
+// Face sums run over fixed chunks of faces, in parallel, and add the chunks' sums in order: the
+// same bits on any number of threads.
+constexpr std::size_t kFaceChunk = 4096;
+
+// merge(total, chunk_sum) over the chunks' sums in order; each chunk's from term(face, sum).
+template <std::size_t N, class Term, class Merge>
+std::array<double, N> chunked_sum(std::size_t faces, const Term& term, const Merge& merge) {
+  const std::size_t chunks = (faces + kFaceChunk - 1) / kFaceChunk;
+  std::vector<std::array<double, N>> sums(chunks, std::array<double, N>{});
+  parallel_for(static_cast<std::ptrdiff_t>(chunks), 1, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (auto c = static_cast<std::size_t>(lo); c < static_cast<std::size_t>(hi); ++c)
+      for (std::size_t f = c * kFaceChunk; f < std::min(faces, (c + 1) * kFaceChunk); ++f) term(f, sums[c]);
+  });
+  std::array<double, N> total{};
+  for (const auto& s : sums) merge(total, s);
+  return total;
+}
+
+void add_sums(std::array<double, 1>& total, const std::array<double, 1>& s) { total[0] += s[0]; }
 
 }  // namespace
 
@@ -52,12 +73,18 @@ EnclosedVolumes::EnclosedVolumes(const Mesh& mesh, const VertexData<Vec3>& rest,
     if (p < 0) continue;
     std::array<int, 3> corners{};
     const std::array<Vertex, 3> vs = mesh.vertices(f);
-    for (int k = 0; k < 3; ++k) corners[static_cast<std::size_t>(k)] = local[vs[k]] >= 0 ? local[vs[k]] : -1 - extra_index[vs[k]];
-    parts_[static_cast<std::size_t>(p)].faces.push_back(corners);
+    bool moves = false;
+    for (int k = 0; k < 3; ++k) {
+      const int row = local[vs[k]];
+      corners[static_cast<std::size_t>(k)] = row >= 0 ? row : -1 - extra_index[vs[k]];
+      moves = moves || (row >= 0 && row < n_free);
+    }
+    (moves ? parts_[static_cast<std::size_t>(p)].moving : parts_[static_cast<std::size_t>(p)].fixed).push_back(corners);
   }
   for (Part& part : parts_) {
     part.centre /= static_cast<double>(part.local_rows.size() + part.extra.size());
     part.extra_now = part.extra_rest;
+    index_free_corners(part);
   }
   std::vector<double> extent(parts_.size(), 0.0);
   for (Vertex v : mesh.vertices()) {
@@ -79,10 +106,32 @@ EnclosedVolumes::EnclosedVolumes(const Mesh& mesh, const VertexData<Vec3>& rest,
   RowMatrixX3d x = RowMatrixX3d::Zero(rows, 3);
   for (Vertex v : mesh.vertices())
     if (local[v] >= 0) x.row(local[v]) = rest[v].transpose();
-  for (int c = 0; c < count(); ++c) {
-    Part& part = parts_[static_cast<std::size_t>(c)];
-    part.rest_volume = part.target = volume(c, x);
+  for (Part& part : parts_) {
+    part.fixed_sum = fixed_sum(part, x);
+    part.rest_volume = part.target = (part.fixed_sum + moving_sum(part, x)) / 6.0;
   }
+}
+
+void EnclosedVolumes::index_free_corners(Part& part) const {
+  for (int r : part.local_rows)
+    if (r < n_free_) part.free_rows.push_back(r);
+  std::sort(part.free_rows.begin(), part.free_rows.end());
+  const auto slot = [&](int r) {
+    return static_cast<std::size_t>(std::lower_bound(part.free_rows.begin(), part.free_rows.end(), r) -
+                                    part.free_rows.begin());
+  };
+  part.corner_offset.assign(part.free_rows.size() + 1, 0);
+  for (const auto& f : part.moving)
+    for (int r : f)
+      if (r >= 0 && r < n_free_) ++part.corner_offset[slot(r) + 1];
+  for (std::size_t i = 0; i < part.free_rows.size(); ++i) part.corner_offset[i + 1] += part.corner_offset[i];
+  part.corners.resize(static_cast<std::size_t>(part.corner_offset.back()));
+  std::vector<int> next(part.corner_offset.begin(), part.corner_offset.end() - 1);
+  for (std::size_t f = 0; f < part.moving.size(); ++f)  // in face order: the serial sum's order
+    for (int k = 0; k < 3; ++k) {
+      const int r = part.moving[f][static_cast<std::size_t>(k)];
+      if (r >= 0 && r < n_free_) part.corners[static_cast<std::size_t>(next[slot(r)]++)] = 4 * static_cast<int>(f) + k;
+    }
 }
 
 Vec3 EnclosedVolumes::corner(const Part& part, int index, const RowMatrixX3d& x) const {
@@ -92,37 +141,61 @@ Vec3 EnclosedVolumes::corner(const Part& part, int index, const RowMatrixX3d& x)
 }
 
 void EnclosedVolumes::start(std::span<const Eigen::Affine3d> transforms, std::span<const double> scale,
-                            std::span<const double> handle_scale) {
+                            std::span<const double> handle_scale, const RowMatrixX3d& x) {
   for (Part& part : parts_) {
     double cubes = 0.0;
     for (std::size_t i = 0; i < part.extra.size(); ++i) {
       const int m = part.extra_owner[i];
-      part.extra_now[i] = m >= 0 ? Vec3(transforms[static_cast<std::size_t>(m)] * part.extra_rest[i]) : part.extra_rest[i];
+      part.extra_now[i] =
+          m >= 0 ? Vec3(transforms[static_cast<std::size_t>(m)] * part.extra_rest[i]) : part.extra_rest[i];
       const double s = m >= 0 ? handle_scale[static_cast<std::size_t>(m)] : 1.0;
       cubes += s * s * s;
     }
     for (int r : part.local_rows) cubes += std::pow(scale[static_cast<std::size_t>(r)], 3);
+    part.fixed_sum = fixed_sum(part, x);
     part.target = part.rest_volume * cubes / static_cast<double>(part.extra.size() + part.local_rows.size());
   }
 }
 
+double EnclosedVolumes::fixed_sum(const Part& part, const RowMatrixX3d& x) const {
+  double v = 0.0;
+  for (const auto& f : part.fixed) v += corner(part, f[0], x).dot(corner(part, f[1], x).cross(corner(part, f[2], x)));
+  return v;
+}
+
+double EnclosedVolumes::moving_sum(const Part& part, const RowMatrixX3d& x) const {
+  const auto term = [&](std::size_t i, std::array<double, 1>& sum) {
+    const auto& f = part.moving[i];
+    sum[0] += corner(part, f[0], x).dot(corner(part, f[1], x).cross(corner(part, f[2], x)));
+  };
+  return chunked_sum<1>(part.moving.size(), term, add_sums)[0];
+}
+
 double EnclosedVolumes::volume(int c, const RowMatrixX3d& x) const {
   const Part& part = parts_[static_cast<std::size_t>(c)];
-  double v = 0.0;
-  for (const auto& f : part.faces) v += corner(part, f[0], x).dot(corner(part, f[1], x).cross(corner(part, f[2], x)));
-  return v / 6.0;
+  return (part.fixed_sum + moving_sum(part, x)) / 6.0;
 }
 
 void EnclosedVolumes::gradient(int c, const RowMatrixX3d& x, Eigen::Ref<Eigen::MatrixXd> g) const {
+  // Per free row, the sum over its faces of the cross product of the face's other two corners
+  // (d/dy of V / scale^3, y = x / scale), in face order.
   const Part& part = parts_[static_cast<std::size_t>(c)];
   g.setZero();
-  for (const auto& f : part.faces) {
-    const Vec3 a = corner(part, f[0], x), b = corner(part, f[1], x), d = corner(part, f[2], x);
-    const Vec3 grad[3] = {b.cross(d), d.cross(a), a.cross(b)};
-    for (int k = 0; k < 3; ++k)
-      if (f[static_cast<std::size_t>(k)] >= 0 && f[static_cast<std::size_t>(k)] < n_free_)
-        g.row(f[static_cast<std::size_t>(k)]) += grad[k].transpose() / 6.0;  // d/dy of V / scale^3, y = x / scale
-  }
+  const auto rows = static_cast<std::ptrdiff_t>(part.free_rows.size());
+  parallel_for(rows, 1024, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (auto i = static_cast<std::size_t>(lo); i < static_cast<std::size_t>(hi); ++i) {
+      Vec3 sum = Vec3::Zero();
+      for (int e = part.corner_offset[i]; e < part.corner_offset[i + 1]; ++e) {
+        const int code = part.corners[static_cast<std::size_t>(e)];
+        const auto& f = part.moving[static_cast<std::size_t>(code / 4)];
+        const int k = code % 4;
+        sum += corner(part, f[static_cast<std::size_t>((k + 1) % 3)], x)
+                   .cross(corner(part, f[static_cast<std::size_t>((k + 2) % 3)], x)) /
+               6.0;
+      }
+      g.row(part.free_rows[i]) = sum.transpose();
+    }
+  });
 }
 
 double EnclosedVolumes::multiplier(int c, const RowMatrixX3d& x, const Eigen::MatrixXd& u) const {
@@ -133,20 +206,25 @@ double EnclosedVolumes::multiplier(int c, const RowMatrixX3d& x, const Eigen::Ma
   const Part& part = parts_[static_cast<std::size_t>(c)];
   auto is_free = [&](int index) { return index >= 0 && index < n_free_; };
   auto du = [&](int index) { return is_free(index) ? Vec3(u.row(index).transpose() * part.inv_scale) : Vec3::Zero(); };
-  double k[4] = {0.0, 0.0, 0.0, 0.0};
-  double u_max = 0.0, area = 0.0;  // area: of the faces that can move
-  for (const auto& f : part.faces) {
+  // k[0..3], the area of the moving faces, the largest |u|^2 of a corner.
+  const auto term = [&](std::size_t i, std::array<double, 6>& sum) {
+    const auto& f = part.moving[i];
     const Vec3 a = corner(part, f[0], x), b = corner(part, f[1], x), d = corner(part, f[2], x);
     const Vec3 ua = du(f[0]), ub = du(f[1]), ud = du(f[2]);
-    if (is_free(f[0]) || is_free(f[1]) || is_free(f[2])) area += 0.5 * (b - a).cross(d - a).norm();
-    k[0] += a.dot(b.cross(d));
-    k[1] += ua.dot(b.cross(d)) + a.dot(ub.cross(d)) + a.dot(b.cross(ud));
-    k[2] += ua.dot(ub.cross(d)) + ua.dot(b.cross(ud)) + a.dot(ub.cross(ud));
-    k[3] += ua.dot(ub.cross(ud));
-    u_max = std::max({u_max, ua.squaredNorm(), ub.squaredNorm(), ud.squaredNorm()});
-  }
-  u_max = std::sqrt(u_max);
-  const double deficit = k[0] / 6.0 - part.target;  // the same sum as volume(): exactly 0 at the rest
+    sum[0] += a.dot(b.cross(d));
+    sum[1] += ua.dot(b.cross(d)) + a.dot(ub.cross(d)) + a.dot(b.cross(ud));
+    sum[2] += ua.dot(ub.cross(d)) + ua.dot(b.cross(ud)) + a.dot(ub.cross(ud));
+    sum[3] += ua.dot(ub.cross(ud));
+    sum[4] += 0.5 * (b - a).cross(d - a).norm();
+    sum[5] = std::max({sum[5], ua.squaredNorm(), ub.squaredNorm(), ud.squaredNorm()});
+  };
+  const auto merge = [](std::array<double, 6>& total, const std::array<double, 6>& s) {
+    for (std::size_t j = 0; j < 5; ++j) total[j] += s[j];
+    total[5] = std::max(total[5], s[5]);
+  };
+  const std::array<double, 6> k = chunked_sum<6>(part.moving.size(), term, merge);
+  const double area = k[4], u_max = std::sqrt(k[5]);
+  const double deficit = (part.fixed_sum + k[0]) / 6.0 - part.target;  // as volume(): exactly 0 at the rest
   if (deficit == 0.0 || !(u_max > 0.0) || !std::isfinite(u_max)) return 0.0;
   // No correction moves a vertex by more than the component's extent (~1 in these
   // coordinates), nor by more than kVolumeEfficiency times the even offset of the moving

@@ -29,10 +29,12 @@ class EnclosedVolumes {
   int count() const { return static_cast<int>(parts_.size()); }
 
   // For one frame: places the vertices the model does not hold (handle interiors, fixed
-  // parts) and sets the targets. scale: per local row (free: the guidance's; the rest: their
-  // handle's); handle_scale: per movable handle.
+  // parts), sums the faces without a free corner at x (its constrained rows: this frame's) and
+  // sets the targets. scale: per local row (free: the guidance's; the rest: their handle's);
+  // handle_scale: per movable handle. Until the next start, volume(), gradient() and
+  // multiplier() take positions whose constrained rows are those of x.
   void start(std::span<const Eigen::Affine3d> transforms, std::span<const double> scale,
-             std::span<const double> handle_scale);
+             std::span<const double> handle_scale, const RowMatrixX3d& x);
 
   // Volumes and gradients are computed on the component's positions centred and scaled by a
   // power of two (exact), so that they neither overflow nor underflow at any size:
@@ -51,20 +53,28 @@ class EnclosedVolumes {
 
  private:
   struct Part {
-    // Corners: >= 0 a local row, < 0 the extra vertex -1 - i.
-    std::vector<std::array<int, 3>> faces;
-    std::vector<Vertex> extra;        // component vertices without a local row
-    std::vector<int> extra_owner;     // their movable handle, or -1
+    // Corners: >= 0 a local row, < 0 the extra vertex -1 - i. Moving: a face with a free
+    // corner; the others' volume is summed once per frame (fixed_sum, 6 times their volume).
+    std::vector<std::array<int, 3>> moving, fixed;
+    double fixed_sum = 0;
+    // Per free row of the component (free_rows), its corners among the moving faces
+    // (4 * face + corner), from corner_offset[i] to corner_offset[i + 1]: the gradient's gather.
+    std::vector<int> free_rows, corner_offset, corners;
+    std::vector<Vertex> extra;     // component vertices without a local row
+    std::vector<int> extra_owner;  // their movable handle, or -1
     std::vector<Vec3> extra_rest, extra_now;
-    std::vector<int> local_rows;      // the component's local rows
-    Vec3 centre = Vec3::Zero();       // of the rest, for accuracy far from the origin
-    double scale = 1, inv_scale = 1;  // a power of two near the rest extent, and its inverse
+    std::vector<int> local_rows;         // the component's local rows
+    Vec3 centre = Vec3::Zero();          // of the rest, for accuracy far from the origin
+    double scale = 1, inv_scale = 1;     // a power of two near the rest extent, and its inverse
     double rest_volume = 0, target = 0;  // divided by scale^3
   };
   std::vector<Part> parts_;
   int n_free_ = 0;
 
   Vec3 corner(const Part& part, int index, const RowMatrixX3d& x) const;
+  void index_free_corners(Part& part) const;
+  double fixed_sum(const Part& part, const RowMatrixX3d& x) const;
+  double moving_sum(const Part& part, const RowMatrixX3d& x) const;
 };
 
 }  // namespace freeform

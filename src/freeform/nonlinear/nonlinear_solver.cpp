@@ -275,7 +275,7 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
   if (warm && linear && d.has_linear) d.x.topRows(p) += *linear - d.linear;
   d.has_linear = linear != nullptr;
   if (linear) d.linear = *linear;
-  if (d.volumes) d.volumes->start(transforms, d.scale, handle_s);
+  if (d.volumes) d.volumes->start(transforms, d.scale, handle_s, d.x);
   d.anderson->reset();
   d.fitted = d.accelerated = false;
   d.best_step = std::numeric_limits<double>::infinity();
@@ -424,7 +424,8 @@ void NonlinearSolver::keep_volumes() {
     rhs.middleCols(3 * c, 3) = d.sys->outer * d.grad;
     if (d.mu != 0.0) rhs.middleCols(3 * c, 3) += d.mu * d.grad.topRows(p);  // (outer + mu E) grad
   }
-  const Eigen::MatrixXd u = d.sys->solver.solve(rhs);
+  // No residual check: this iteration's step solved with the same factor and was checked.
+  const Eigen::MatrixXd u = d.sys->solver.solve(rhs, false);
   for (int c = 0; c < n; ++c) {
     const Eigen::MatrixXd uc = u.middleCols(3 * c, 3);
     d.x.topRows(p) += d.volumes->multiplier(c, d.x, uc) * uc;
