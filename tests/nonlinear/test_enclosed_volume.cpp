@@ -63,6 +63,32 @@ TEST(EnclosedVolumes, IcosahedronVolumeAlsoFarFromTheOrigin) {
   }
 }
 
+// The faces without a free corner are summed once per start(), at the positions given there:
+// with the handle moved (its rows and transform), volume() matches a plain sum over all faces of
+// the moved mesh, and a stale sum (the handle cap at its rest) would miss it by the cap's share.
+TEST(EnclosedVolumes, VolumeFollowsTheHandleGivenToStart) {
+  const HalfSphere s = sphere(1.0, Vec3::Zero());
+  EnclosedVolumes v(s.mesh, s.mesh.positions(), s.local, s.n_free, s.regions);
+  const Eigen::Affine3d t(Eigen::Translation3d(0.1, -0.2, 0.4) * Eigen::AngleAxisd(0.7, Vec3::UnitX()));
+  Rows x = s.x;
+  for (Eigen::Index i = s.n_free; i < x.rows(); ++i) x.row(i) = (t * Vec3(x.row(i).transpose())).transpose();
+  for (Eigen::Index i = 0; i < s.n_free; ++i) x(i, 2) *= 1.3;  // the free rows stretched up
+  const std::vector<double> scale(static_cast<std::size_t>(x.rows()), 1.0);
+  const double handle_scale[] = {1.0};
+  v.start(std::span(&t, 1), scale, handle_scale, x);
+  double expected = 0.0;
+  for (Face f : s.mesh.faces()) {
+    Vec3 p[3];
+    const std::array<Vertex, 3> c = s.mesh.vertices(f);
+    for (int k = 0; k < 3; ++k) {
+      const int l = s.local[c[static_cast<std::size_t>(k)]];
+      p[k] = l >= 0 ? Vec3(x.row(l).transpose()) : s.mesh.position(c[static_cast<std::size_t>(k)]);
+    }
+    expected += p[0].dot(p[1].cross(p[2])) / 6.0;
+  }
+  EXPECT_NEAR(v.volume(0, x) * std::pow(v.scale(0), 3), expected, 1e-12 * std::abs(expected));
+}
+
 TEST(EnclosedVolumes, GradientMatchesFiniteDifferences) {
   const HalfSphere s = sphere(1.0, Vec3(0.3, 0.1, -0.2));
   const EnclosedVolumes v(s.mesh, s.mesh.positions(), s.local, s.n_free, s.regions);
