@@ -58,7 +58,7 @@ struct Config {
   bool multiresolution = true;
   bool c0 = false;  // boundary smoothness 0 on both sides (default: k - 1)
   // NonlinearOptions: rotation_smoothing, max_iterations, preserve_volume
-  int smoothing = -1, max_iterations = 100;
+  int smoothing = -1, max_iterations = NonlinearOptions{}.max_iterations;
   bool volume = true;
   bool on_request = false;  // run only when named with --config
 };

@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Summarizes bench_gallery's JSON: per method the totals of folded edges and collapsed faces,
 the mean over cases of the support's compressive strain and halved area, unconverged runs, the slowest run, and per Freeform method the cases worse than the peer
-(CGAL ARAP) by more than 2 folded edges or 2 collapsed faces, worst first.
-    scripts/gallery-summary.py gallery.json [--peer "CGAL ARAP"]"""
+(CGAL ARAP) by more than 2 folded edges or 2 collapsed faces, worst first. --peer-from takes the
+peer's runs from an earlier gallery JSON (the same cases), so that a quick loop without the peer
+(`bench_gallery --no-peer`) is still compared with it.
+    scripts/gallery-summary.py gallery.json [--peer "CGAL ARAP"] [--peer-from peer.json]"""
 import json
 import sys
 
@@ -17,8 +19,21 @@ def main() -> int:
         i = args.index("--peer")
         peer = args[i + 1]
         del args[i:i + 2]
+    peer_from = None
+    if "--peer-from" in args:
+        i = args.index("--peer-from")
+        peer_from = args[i + 1]
+        del args[i:i + 2]
     with open(args[0], encoding="utf-8") as f:
         cases = json.load(f)
+    if peer_from:
+        with open(peer_from, encoding="utf-8") as f:
+            earlier = {c["case"]: [r for r in c["runs"] if r["method"] == peer] for c in json.load(f)}
+        for case in cases:
+            if case["case"] not in earlier:
+                print(f"gallery-summary: {peer_from} has no case {case['case']}", file=sys.stderr)
+                return 1
+            case["runs"] = [r for r in case["runs"] if r["method"] != peer] + earlier[case["case"]]
     methods: dict[str, dict] = {}
     for case in cases:
         runs = {r["method"]: r for r in case["runs"]}

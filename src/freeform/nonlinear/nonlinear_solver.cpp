@@ -33,12 +33,14 @@ constexpr int kParallelRows = 2048;
 // The cap bounds the cost per iteration.
 constexpr double kSmoothingPerSqrtFree = 0.15, kBaseSmoothingPerSqrtFree = 0.25;
 constexpr int kMinSmoothingRings = 3, kMinBaseSmoothingRings = 2, kMaxSmoothingRings = 64;
-// Automatic membrane weight (NonlinearOptions::membrane): kMembrane[k] at kMembraneFree free
-// vertices, so that the membrane's length grows as sqrt(free) like the fit's width. Measured on
-// the gallery (docs/nonlinear.md, 12): with the spokes-and-rims membrane, 0.3 at k = 2 collapses
-// a third fewer faces than 0.01 and folds 3 % more edges (1.0: fewer still, but more runs reach
-// the cap); at k = 3, 0.03 folds more than 0.01.
-constexpr double kMembrane[] = {0.0, 0.0, 0.3, 0.01}, kMembraneFree = 500.0, kMaxMembrane = 0.3;
+// Automatic membrane weight (NonlinearOptions::membrane): kMembrane[k] (kMembraneFree / free) to the
+// power kMembranePower[k], at most kMaxMembrane, so that the membrane's share shrinks as the support
+// grows, like the fit's width. Measured on the gallery (docs/nonlinear.md, 12 and 13): at k = 2
+// 0.3 collapses a third fewer faces than 0.01 and folds 3 % more edges (1.0: fewer still, but the
+// twisted bar folds and more runs need over 100 iterations); at k = 3 power 1.5 collapses 10 %
+// fewer faces than 2 (power 1 as many, but the bar without the volume term then cycles).
+constexpr double kMembrane[] = {0.0, 0.0, 0.3, 0.03}, kMembranePower[] = {0.0, 0.0, 1.0, 1.5};
+constexpr double kMembraneFree = 500.0, kMaxMembrane = 0.3;
 // The membrane turns with its own 1-ring rotations (ARAP's) at k = 2, and at k = 3 up to this
 // many free vertices; beyond, with the bending term's smoothed field: on the editor benchmark's
 // 35k-vertex drags the 1-ring rotations took 57-75 iterations to settle instead of 28-36, and the
@@ -190,10 +192,11 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
   global.insert(global.end(), d.sys->constrained.begin(), d.sys->constrained.end());
   d.fans.emplace(mesh, local, global, d.rest.data(), d.sys->lap);
   double membrane = options.membrane;
-  if (membrane < 0.0)  // automatic; order 1 is a membrane already
-    membrane = std::min(kMembrane[std::clamp(d.sys->order, 0, 3)] *
-                            std::pow(kMembraneFree / std::max(p, 1), std::max(d.sys->order - 1, 0)),
-                        kMaxMembrane);
+  if (membrane < 0.0) {  // automatic; order 1 is a membrane already
+    const int order = std::clamp(d.sys->order, 0, 3);
+    membrane =
+        std::min(kMembrane[order] * std::pow(kMembraneFree / std::max(p, 1), kMembranePower[order]), kMaxMembrane);
+  }
   if (membrane > 0.0 && p > 0) add_membrane(membrane);
   d.q.assign(static_cast<std::size_t>(p + c), Eigen::Quaterniond::Identity());
   d.guide.assign(static_cast<std::size_t>(p), Eigen::Quaterniond::Identity());
