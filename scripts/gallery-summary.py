@@ -9,31 +9,50 @@ import json
 import sys
 
 
+def take_option(args: list[str], flag: str) -> str | None:
+    """Removes `flag VALUE` from args and returns VALUE (None if absent); exits 2 without a value."""
+    if flag not in args:
+        return None
+    i = args.index(flag)
+    if i + 1 >= len(args):
+        print(f"gallery-summary: {flag} needs a value", file=sys.stderr)
+        sys.exit(2)
+    value = args[i + 1]
+    del args[i:i + 2]
+    return value
+
+
+def read_json(path: str) -> list:
+    with open(path, encoding="utf-8") as f:
+        try:
+            return json.load(f)
+        except ValueError as e:
+            raise ValueError(f"{path}: not gallery JSON ({e})") from e
+
+
 def main() -> int:
     args = sys.argv[1:]
     if not args:
         print(__doc__, file=sys.stderr)
         return 2
-    peer = "CGAL ARAP"
-    if "--peer" in args:
-        i = args.index("--peer")
-        peer = args[i + 1]
-        del args[i:i + 2]
-    peer_from = None
-    if "--peer-from" in args:
-        i = args.index("--peer-from")
-        peer_from = args[i + 1]
-        del args[i:i + 2]
-    with open(args[0], encoding="utf-8") as f:
-        cases = json.load(f)
+    peer = take_option(args, "--peer") or "CGAL ARAP"
+    peer_from = take_option(args, "--peer-from")
+    if len(args) != 1:
+        print(__doc__, file=sys.stderr)
+        return 2
+    try:
+        cases = read_json(args[0])
+        earlier = read_json(peer_from) if peer_from else []
+    except (OSError, ValueError) as e:
+        print(f"gallery-summary: {e}", file=sys.stderr)
+        return 1
     if peer_from:
-        with open(peer_from, encoding="utf-8") as f:
-            earlier = {c["case"]: [r for r in c["runs"] if r["method"] == peer] for c in json.load(f)}
+        runs_of = {c["case"]: [r for r in c["runs"] if r["method"] == peer] for c in earlier}
         for case in cases:
-            if case["case"] not in earlier:
-                print(f"gallery-summary: {peer_from} has no case {case['case']}", file=sys.stderr)
+            if not runs_of.get(case["case"]):
+                print(f"gallery-summary: {peer_from} has no {peer} run of case {case['case']}", file=sys.stderr)
                 return 1
-            case["runs"] = [r for r in case["runs"] if r["method"] != peer] + earlier[case["case"]]
+            case["runs"] = [r for r in case["runs"] if r["method"] != peer] + runs_of[case["case"]]
     methods: dict[str, dict] = {}
     for case in cases:
         runs = {r["method"]: r for r in case["runs"]}

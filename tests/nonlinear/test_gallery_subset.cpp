@@ -51,7 +51,7 @@ TEST(GallerySubset, ElephantLimbsAgainstArap) {
   const std::vector<Shape> cases = elephant_cases();
   if (cases.empty()) GTEST_SKIP() << "libcgal-demo meshes not found";
   ASSERT_EQ(cases.size(), 8u);
-  int peer_folds = 0, peer_collapsed = 0, folds[2] = {0, 0}, collapsed[2] = {0, 0}, capped = 0;
+  int peer_folds = 0, peer_collapsed = 0, folds[2] = {0, 0}, collapsed_k3 = 0, capped = 0;
   for (const Shape& base : cases) {
     const std::optional<PeerResult> arap = cgal_deform(base, 1000);
     ASSERT_TRUE(arap.has_value()) << base.name;
@@ -67,7 +67,7 @@ TEST(GallerySubset, ElephantLimbsAgainstArap) {
       solver.evaluate(solver.transforms(s.edit), p);
       const Quality q = quality(s, p);
       folds[k - 2] += q.folds;
-      collapsed[k - 2] += q.collapsed;
+      if (k == 3) collapsed_k3 += q.collapsed;
       std::printf("%-28s k=%d folds %3d (ARAP %3d) collapsed %3d (ARAP %3d) iterations %d\n", s.name.c_str(), k, q.folds,
                   peer.folds, q.collapsed, peer.collapsed, solver.nonlinear_state()->iterations);
       // Measured 2026-12-02 (the spokes-and-rims membrane): all converge; folds never more than
@@ -85,7 +85,7 @@ TEST(GallerySubset, ElephantLimbsAgainstArap) {
   // Collapsed faces at k = 3: at most 1.4 times ARAP's + 2 in total, a guard of the k = 3 membrane
   // of 2026-12-04 (measured 66 against ARAP's 49; 74 with the membrane before it). The goal,
   // at most ARAP's, is not met (k = 2: 81).
-  EXPECT_LE(collapsed[1], 1.4 * peer_collapsed + 2);
+  EXPECT_LE(collapsed_k3, 1.4 * peer_collapsed + 2);
   EXPECT_LE(capped, 1);
 }
 
