@@ -7,6 +7,10 @@
 #include "freeform/common/parallel.h"
 #include "freeform/numerics/sparse_solver.h"
 
+#if FREEFORM_TEST_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
+
 namespace freeform::test {
 namespace {
 
@@ -78,6 +82,26 @@ TEST(SupernodalSolve, SmallFactorsAreOneSubtree) {
   const Eigen::MatrixXd b = random_rhs(solver.rows(), 2, 3);
   EXPECT_LE((solver.solve(b) - solver.solve(b, true, SolveKernel::Cholmod)).cwiseAbs().maxCoeff(), 1e-12);
 }
+
+#if FREEFORM_TEST_HAVE_CHOLMOD
+// SparseSolver makes CHOLMOD's permuted copy of the matrix itself, on all cores, and touches the
+// factor's pages first (numerics/permuted_lower.h): the factor must be CHOLMOD's own, bit for bit,
+// so CHOLMOD's solve with it gives the same bits as Eigen's plain CHOLMOD factorization.
+TEST(SupernodalSolve, FactorIsCholmodsOwnBitForBit) {
+  for (int order : {1, 2, 3}) {
+    SCOPED_TRACE("order " + std::to_string(order));
+    PlaneSystem sys(60, order);
+    const Eigen::SparseMatrix<double> lower = sys.a.triangularView<Eigen::Lower>();
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> reference(lower);
+    ASSERT_EQ(reference.info(), Eigen::Success);
+    const SparseSolver solver(std::move(sys.a), true);
+    ASSERT_EQ(solver.kind(), SolverKind::CholmodSupernodal);
+    const Eigen::MatrixXd b = random_rhs(solver.rows(), 3, 17);
+    const Eigen::MatrixXd want = reference.solve(b);
+    EXPECT_EQ(solver.solve(b, true, SolveKernel::Cholmod), want);
+  }
+}
+#endif
 
 }  // namespace
 }  // namespace freeform::test

@@ -8,6 +8,7 @@
 #include "freeform/common/parallel.h"
 #include "freeform/common/serial_openmp.h"
 #include "freeform/numerics/nested_dissection.h"
+#include "freeform/numerics/permuted_lower.h"
 #include "freeform/numerics/supernodal_solve.h"
 
 #include <Eigen/SparseCholesky>
@@ -24,6 +25,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <limits>
+#include <new>
 #include <optional>
 #include <string>
 #include <type_traits>
@@ -105,6 +107,47 @@ struct Cholmod : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
     this->m_info = Eigen::Success;
     this->m_analysisIsOk = true;
     this->m_factorizationIsOk = false;
+  }
+  // factorize() with the permuted copy of the matrix made on all cores (numerics/permuted_lower.h)
+  // instead of by CHOLMOD on one thread; the same numeric factorization, the same bits. On one
+  // thread CHOLMOD's own copy is as fast (docs/benchmarks.md).
+  void factorize_permuted(const SpMat& lower) {
+    cholmod_factor* l = this->m_cholmodFactor;
+    if (thread_budget() < 2 || !l->is_super || l->itype != CHOLMOD_INT || !lower.isCompressed())
+      return this->factorize(lower);
+    this->m_info = Eigen::NumericalIssue;
+    LowerCsc p;
+    try {
+      p = permuted_lower(static_cast<int>(lower.rows()), lower.outerIndexPtr(), lower.innerIndexPtr(),
+                         lower.valuePtr(), static_cast<const int*>(l->Perm));
+    } catch (const std::bad_alloc&) {
+      this->cholmod().status = CHOLMOD_OUT_OF_MEMORY;
+      return;
+    }
+    // CHOLMOD first writes the factor's values supernode by supernode on one thread, and the
+    // kernel zeroes each fresh page on the thread that touches it (seconds for the gigabytes of
+    // a large factor): the values are allocated and touched on all cores first.
+    if (l->xtype == CHOLMOD_PATTERN) {
+      if (!cholmod_change_factor(CHOLMOD_REAL, 1, 1, 1, 1, l, &this->cholmod())) return;
+      double* x = static_cast<double*>(l->x);
+      parallel_for(static_cast<std::ptrdiff_t>(l->xsize), std::ptrdiff_t{1} << 18,
+                   [x](std::ptrdiff_t begin, std::ptrdiff_t end) { std::fill(x + begin, x + end, 0.0); });
+    }
+    cholmod_sparse s{};
+    s.nrow = s.ncol = static_cast<std::size_t>(p.n);
+    s.nzmax = p.inner.size();
+    s.p = p.outer.data();
+    s.i = p.inner.data();
+    s.x = p.value.data();
+    s.stype = -1;
+    s.itype = CHOLMOD_INT;
+    s.xtype = CHOLMOD_REAL;
+    s.dtype = CHOLMOD_DOUBLE;
+    s.sorted = 1;
+    s.packed = 1;
+    cholmod_super_numeric(&s, nullptr, this->m_shiftOffset, l, &this->cholmod());
+    this->m_info = l->minor == l->n ? Eigen::Success : Eigen::NumericalIssue;
+    this->m_factorizationIsOk = true;
   }
   std::string ordering;  // how the analysis ordered the rows
   // The factor in SupernodalSolve's terms; nullopt unless it is a supernodal LL' with int indices.
@@ -291,7 +334,7 @@ struct SparseSolver::Impl {
         const auto factorizing = [&] { return "factorizing a " + std::to_string(a.rows()) + "-row system"; };
         require_memory(factorization_bytes(s->cholmod().lnz, a), factorizing);
         const SerialOpenMp serial_teams;  // CHOLMOD's 4-thread teams per supernode (serial_openmp.h)
-        s->factorize(a);
+        s->factorize_permuted(a);
         if (s->cholmod().status == CHOLMOD_OUT_OF_MEMORY)
           throw OutOfMemory("out of memory while " + factorizing());
         if (s->info() != Eigen::Success || s->cholmod().status < CHOLMOD_OK)
