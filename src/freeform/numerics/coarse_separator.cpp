@@ -1,7 +1,7 @@
 #include "freeform/numerics/coarse_separator.h"
 
 #if FREEFORM_HAVE_SUITESPARSE
-#include <cholmod.h>
+#include "freeform/numerics/cholmod_view.h"
 #endif
 
 #include <algorithm>
@@ -96,17 +96,7 @@ std::vector<int> bisect_clusters(const Graph& g, const std::vector<int>& cluster
     std::sort(rows.begin() + static_cast<std::ptrdiff_t>(first), rows.end());
     p.push_back(static_cast<int>(rows.size()));
   }
-  cholmod_sparse a{};
-  a.nrow = a.ncol = static_cast<std::size_t>(clusters);
-  a.nzmax = rows.size();
-  a.p = p.data();
-  a.i = rows.data();
-  a.stype = -1;
-  a.itype = CHOLMOD_INT;
-  a.xtype = CHOLMOD_PATTERN;
-  a.dtype = CHOLMOD_DOUBLE;
-  a.sorted = 1;
-  a.packed = 1;
+  cholmod_sparse a = cholmod_lower_view(static_cast<std::size_t>(clusters), rows.size(), p.data(), rows.data());
   std::vector<int> partition(static_cast<std::size_t>(clusters));
   cholmod_common common;
   cholmod_start(&common);

@@ -5,7 +5,7 @@
 #include "freeform/numerics/coarse_separator.h"
 
 #if FREEFORM_HAVE_SUITESPARSE
-#include <cholmod.h>
+#include "freeform/numerics/cholmod_view.h"
 #endif
 
 #include <algorithm>
@@ -64,17 +64,7 @@ void extract(const Eigen::SparseMatrix<double>& lower, const std::vector<int>& v
     }
     out.p.push_back(static_cast<int>(out.i.size()));
   }
-  cholmod_sparse& a = out.view;
-  a.nrow = a.ncol = vertices.size();
-  a.nzmax = out.i.size();
-  a.p = out.p.data();
-  a.i = out.i.data();
-  a.stype = -1;  // lower triangle
-  a.itype = CHOLMOD_INT;
-  a.xtype = CHOLMOD_PATTERN;
-  a.dtype = CHOLMOD_DOUBLE;
-  a.sorted = 1;
-  a.packed = 1;
+  out.view = cholmod_lower_view(vertices.size(), out.i.size(), out.p.data(), out.i.data());
 }
 
 // Labels the nodes' vertices (label = node index, local = position in its node; -1 for the

@@ -14,6 +14,8 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #if FREEFORM_HAVE_SUITESPARSE
+#include "freeform/numerics/cholmod_view.h"
+
 #include <Eigen/CholmodSupport>
 #include <Eigen/UmfPackSupport>
 #endif
@@ -133,18 +135,8 @@ struct Cholmod : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
       parallel_for(static_cast<std::ptrdiff_t>(l->xsize), std::ptrdiff_t{1} << 18,
                    [x](std::ptrdiff_t begin, std::ptrdiff_t end) { std::fill(x + begin, x + end, 0.0); });
     }
-    cholmod_sparse s{};
-    s.nrow = s.ncol = static_cast<std::size_t>(p.n);
-    s.nzmax = p.inner.size();
-    s.p = p.outer.data();
-    s.i = p.inner.data();
-    s.x = p.value.data();
-    s.stype = -1;
-    s.itype = CHOLMOD_INT;
-    s.xtype = CHOLMOD_REAL;
-    s.dtype = CHOLMOD_DOUBLE;
-    s.sorted = 1;
-    s.packed = 1;
+    cholmod_sparse s = cholmod_lower_view(static_cast<std::size_t>(p.n), p.inner.size(), p.outer.data(), p.inner.data(),
+                                          p.value.data());
     cholmod_super_numeric(&s, nullptr, this->m_shiftOffset, l, &this->cholmod());
     this->m_info = l->minor == l->n ? Eigen::Success : Eigen::NumericalIssue;
     this->m_factorizationIsOk = true;
