@@ -13,8 +13,8 @@ namespace {
 
 constexpr std::ptrdiff_t kColumns = 4096;  // columns of A per pool chunk
 
-// Calls visit(target column, row) of P A P' for every entry of A's lower triangle in columns
-// [begin, end).
+// Calls visit(column, row, t) for every entry t of A's lower triangle in columns [begin, end):
+// its place in the lower triangle of P A P'.
 template <class Visit>
 void for_entries(std::ptrdiff_t begin, std::ptrdiff_t end, const int* outer, const int* inner, const int* inverse,
                  const Visit& visit) {
