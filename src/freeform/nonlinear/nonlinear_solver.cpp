@@ -35,10 +35,8 @@ constexpr double kSmoothingPerSqrtFree = 0.15, kBaseSmoothingPerSqrtFree = 0.25;
 constexpr int kMinSmoothingRings = 3, kMinBaseSmoothingRings = 2, kMaxSmoothingRings = 64;
 // Automatic membrane weight (NonlinearOptions::membrane): kMembrane[k] (kMembraneFree / free) to the
 // power kMembranePower[k], at most kMaxMembrane, so that the membrane's share shrinks as the support
-// grows, like the fit's width. Measured on the gallery (docs/nonlinear.md, 12 and 13): at k = 2
-// 0.3 collapses a third fewer faces than 0.01 and folds 3 % more edges (1.0: fewer still, but the
-// twisted bar folds and more runs need over 100 iterations); at k = 3 power 1.5 collapses 10 %
-// fewer faces than 2 (power 1 as many, but the bar without the volume term then cycles).
+// grows, like the fit's width. Chosen on the gallery (docs/nonlinear.md, 12 and 13): heavier
+// weights squeeze fewer faces but fold or cycle on the survey's bar, S-bent plane and capsule.
 constexpr double kMembrane[] = {0.0, 0.0, 0.3, 0.03}, kMembranePower[] = {0.0, 0.0, 1.0, 1.5};
 constexpr double kMembraneFree = 500.0, kMaxMembrane = 0.3;
 // The membrane turns with its own 1-ring rotations (ARAP's) at k = 2, and at k = 3 up to this

@@ -35,8 +35,8 @@
 namespace freeform {
 
 struct NonlinearOptions {
-  // Per solve(); the report says when the cap stopped it. 200: on the gallery 4 of the 5 k = 2 runs
-  // that 100 stopped converge by then, in 108-173 iterations (docs/nonlinear.md, 13).
+  // Per solve(); the report says when the cap stopped it. 200 lets most gallery runs that 100
+  // stopped converge (docs/nonlinear.md, "What the gallery found", 13).
   int max_iterations = 200;
   // Converged when no vertex moved more than this fraction of the support's extent (bounding
   // box diagonal) in the last iteration.

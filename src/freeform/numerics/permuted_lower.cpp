@@ -66,7 +66,6 @@ void sort_by_row(int* row, double* value, std::size_t m) {
 
 LowerCsc permuted_lower(int n, const int* outer, const int* inner, const double* value, const int* perm) {
   LowerCsc out;
-  out.n = n;
   std::vector<int> inverse(static_cast<std::size_t>(n));
   parallel_for(n, 1 << 16, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
     for (auto k = begin; k < end; ++k) inverse[static_cast<std::size_t>(perm[k])] = static_cast<int>(k);

@@ -1,7 +1,7 @@
 // The lower triangle of P A P' from the lower triangle of a symmetric A, both in compressed
 // columns, built on the pool: CHOLMOD's factorization makes this copy first, on one thread and
-// by two transposes (about 2 s at 1M rows, k = 3; issue 43). Each column is sorted by row, as
-// CHOLMOD's copy is, so the factor has the same bits on any number of threads.
+// by two transposes (issue 43; docs/benchmarks.md). Each column is sorted by row, as CHOLMOD's
+// copy is, so the factor has the same bits on any number of threads.
 #pragma once
 
 #include "freeform/numerics/csr.h"
@@ -11,8 +11,7 @@
 namespace freeform {
 
 struct LowerCsc {
-  int n = 0;
-  std::vector<int> outer;  // n + 1
+  std::vector<int> outer;  // columns + 1
   std::vector<int, UninitializedAllocator<int>> inner;
   std::vector<double, UninitializedAllocator<double>> value;
 };
