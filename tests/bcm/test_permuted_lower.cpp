@@ -1,5 +1,5 @@
 // numerics/permuted_lower.h against P A P' built by Eigen from triplets: the same pattern, rows
-// sorted in every column, and the same values, bit for bit.
+// sorted in every column, and the same values, bit for bit; lower and upper triangles.
 #include "freeform/numerics/permuted_lower.h"
 
 #include <gtest/gtest.h>
@@ -66,7 +66,7 @@ SpMat reference(const SpMat& full, const std::vector<int>& perm) {
   return r;
 }
 
-void expect_same(const LowerCsc& got, const SpMat& want) {
+void expect_same(const TriangleCsc& got, const SpMat& want) {
   ASSERT_EQ(got.outer.size(), static_cast<std::size_t>(want.cols()) + 1);
   ASSERT_TRUE(std::equal(got.outer.begin(), got.outer.end(), want.outerIndexPtr()));
   ASSERT_EQ(got.inner.size(), static_cast<std::size_t>(want.nonZeros()));
@@ -80,9 +80,28 @@ TEST(PermutedLower, IsEigensLowerTriangleOfThePermutedMatrixOverManyChunks) {
     const SpMat full = random_symmetric(n, 5u + static_cast<unsigned>(n));
     const SpMat lower = full.triangularView<Eigen::Lower>();
     const std::vector<int> perm = random_permutation(n, 9u);
-    const LowerCsc got = permuted_lower(n, lower.outerIndexPtr(), lower.innerIndexPtr(), lower.valuePtr(), perm.data());
+    const TriangleCsc got =
+        permuted_lower(n, lower.outerIndexPtr(), lower.innerIndexPtr(), lower.valuePtr(), perm.data());
     expect_same(got, reference(full, perm));
   }
+}
+
+// The symbolic analysis's copies: the upper triangle, and the pattern alone.
+TEST(PermutedLower, UpperTriangleIsTheTransposeAndPatternsHaveNoValues) {
+  const int n = 20000;
+  const SpMat full = random_symmetric(n, 21u);
+  const SpMat lower = full.triangularView<Eigen::Lower>();
+  const std::vector<int> perm = random_permutation(n, 4u);
+  const SpMat upper = reference(full, perm).transpose();
+  expect_same(permuted_triangle(n, lower.outerIndexPtr(), lower.innerIndexPtr(), lower.valuePtr(), perm.data(),
+                                Triangle::upper),
+              upper);
+  const TriangleCsc pattern =
+      permuted_triangle(n, lower.outerIndexPtr(), lower.innerIndexPtr(), nullptr, perm.data(), Triangle::upper);
+  EXPECT_TRUE(pattern.value.empty());
+  EXPECT_TRUE(std::equal(pattern.inner.begin(), pattern.inner.end(), upper.innerIndexPtr(),
+                         upper.innerIndexPtr() + upper.nonZeros()));
+  EXPECT_TRUE(std::equal(pattern.outer.begin(), pattern.outer.end(), upper.outerIndexPtr()));
 }
 
 TEST(PermutedLower, IgnoresTheUpperTriangleAndKeepsTheIdentityOrder) {
@@ -91,7 +110,8 @@ TEST(PermutedLower, IgnoresTheUpperTriangleAndKeepsTheIdentityOrder) {
   std::vector<int> identity(static_cast<std::size_t>(n));
   std::iota(identity.begin(), identity.end(), 0);
   // The whole matrix given: its upper triangle must not count twice.
-  const LowerCsc got = permuted_lower(n, full.outerIndexPtr(), full.innerIndexPtr(), full.valuePtr(), identity.data());
+  const TriangleCsc got =
+      permuted_lower(n, full.outerIndexPtr(), full.innerIndexPtr(), full.valuePtr(), identity.data());
   const SpMat lower = full.triangularView<Eigen::Lower>();
   expect_same(got, lower);
 }

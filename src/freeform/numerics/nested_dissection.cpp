@@ -6,6 +6,7 @@
 
 #if FREEFORM_HAVE_SUITESPARSE
 #include "freeform/numerics/cholmod_view.h"
+#include "freeform/numerics/supernodal_analysis.h"
 #endif
 
 #include <algorithm>
@@ -211,9 +212,10 @@ double cholesky_fill(const Eigen::SparseMatrix<double>& lower, std::vector<int> 
   extract(lower, all, label, all, sub);
   Common common;
   common.c.nmethods = 1;
-  common.c.method[0].ordering = perm.empty() ? CHOLMOD_METIS : CHOLMOD_GIVEN;
+  common.c.method[0].ordering = CHOLMOD_METIS;
   common.c.supernodal = CHOLMOD_SUPERNODAL;
-  cholmod_factor* f = cholmod_analyze_p(&sub.view, perm.empty() ? nullptr : perm.data(), nullptr, 0, &common.c);
+  cholmod_factor* f =
+      perm.empty() ? cholmod_analyze(&sub.view, &common.c) : analyze_supernodal_given(sub.view, perm.data(), &common.c);
   const double lnz = f ? common.c.lnz : 0.0;
   cholmod_free_factor(&f, &common.c);
   return lnz;

@@ -15,6 +15,7 @@
 #include <Eigen/SparseLU>
 #if FREEFORM_HAVE_SUITESPARSE
 #include "freeform/numerics/cholmod_view.h"
+#include "freeform/numerics/supernodal_analysis.h"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/UmfPackSupport>
@@ -94,17 +95,11 @@ using Lu = Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>>;
 struct Cholmod : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
   bool has_factor() const { return this->m_cholmodFactor != nullptr; }
   // analyzePattern with a fill-reducing ordering computed elsewhere (CHOLMOD still postorders
-  // it by its elimination tree and finds the supernodes). The ordering settings are restored,
-  // so that analyzePattern after a failure orders by them again.
-  void analyze_given(const SpMat& lower, std::vector<int>& perm) {
+  // it by its elimination tree and finds the supernodes), its permuted copies made on all cores.
+  void analyze_given(const SpMat& lower, const std::vector<int>& perm) {
     if (this->m_cholmodFactor) cholmod_free_factor(&this->m_cholmodFactor, &this->cholmod());
-    cholmod_sparse a = Eigen::viewAsCholmod(lower.selfadjointView<Eigen::Lower>());
-    const int methods = this->cholmod().nmethods, method = this->cholmod().method[0].ordering;
-    this->cholmod().nmethods = 1;
-    this->cholmod().method[0].ordering = CHOLMOD_GIVEN;
-    this->m_cholmodFactor = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &this->cholmod());
-    this->cholmod().nmethods = methods;
-    this->cholmod().method[0].ordering = method;
+    const cholmod_sparse a = Eigen::viewAsCholmod(lower.selfadjointView<Eigen::Lower>());
+    this->m_cholmodFactor = analyze_supernodal_given(a, perm.data(), &this->cholmod());
     this->m_isInitialized = true;
     this->m_info = Eigen::Success;
     this->m_analysisIsOk = true;
@@ -118,7 +113,7 @@ struct Cholmod : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
     if (thread_budget() < 2 || !l->is_super || l->itype != CHOLMOD_INT || !lower.isCompressed())
       return this->factorize(lower);
     this->m_info = Eigen::NumericalIssue;
-    LowerCsc p;
+    TriangleCsc p;
     try {
       p = permuted_lower(static_cast<int>(lower.rows()), lower.outerIndexPtr(), lower.innerIndexPtr(),
                          lower.valuePtr(), static_cast<const int*>(l->Perm));
