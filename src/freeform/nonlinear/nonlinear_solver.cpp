@@ -34,11 +34,12 @@ constexpr int kParallelRows = 2048;
 constexpr double kSmoothingPerSqrtFree = 0.15, kBaseSmoothingPerSqrtFree = 0.25;
 constexpr int kMinSmoothingRings = 3, kMinBaseSmoothingRings = 2, kMaxSmoothingRings = 64;
 // Automatic membrane weight (NonlinearOptions::membrane): kMembrane[k] (kMembraneFree / free) to the
-// power kMembranePower[k], at most kMaxMembrane, so that the membrane's share shrinks as the support
-// grows, like the fit's width. Chosen on the gallery (docs/nonlinear.md, 12 and 13): heavier
-// weights squeeze fewer faces but fold or cycle on the survey's bar, S-bent plane and capsule.
+// power kMembranePower[k], one power more below kMembraneFree, at most kMaxMembrane, so that the
+// membrane's share shrinks as the support grows, like the fit's width. Chosen on the gallery
+// (docs/nonlinear.md, 12 to 14): heavier weights squeeze fewer faces but fold or cycle on the
+// survey's bar, S-bent plane and capsule; a limb only a few rings across needs more of it.
 constexpr double kMembrane[] = {0.0, 0.0, 0.3, 0.03}, kMembranePower[] = {0.0, 0.0, 1.0, 1.5};
-constexpr double kMembraneFree = 500.0, kMaxMembrane = 0.3;
+constexpr double kMembraneFree = 500.0, kMaxMembrane = 0.6;
 // The membrane turns with its own 1-ring rotations (ARAP's) at k = 2, and at k = 3 up to this
 // many free vertices; beyond, with the bending term's smoothed field: on the editor benchmark's
 // 35k-vertex drags the 1-ring rotations took 57-75 iterations to settle instead of 28-36, and the
@@ -192,8 +193,8 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
   double membrane = options.membrane;
   if (membrane < 0.0) {  // automatic; order 1 is a membrane already
     const int order = std::clamp(d.sys->order, 0, 3);
-    membrane =
-        std::min(kMembrane[order] * std::pow(kMembraneFree / std::max(p, 1), kMembranePower[order]), kMaxMembrane);
+    const double ratio = kMembraneFree / std::max(p, 1);
+    membrane = std::min(kMembrane[order] * std::pow(ratio, kMembranePower[order]) * std::max(ratio, 1.0), kMaxMembrane);
   }
   if (membrane > 0.0 && p > 0) add_membrane(membrane);
   d.q.assign(static_cast<std::size_t>(p + c), Eigen::Quaterniond::Identity());

@@ -57,13 +57,14 @@ struct NonlinearOptions {
   bool preserve_volume = true;
   // Weight of a membrane term (ARAP's energy) added to the global step's k-harmonic one, relative
   // to the operator at the scale of a ring (0: none; -1: automatic, 0.3 (500 / free) at k = 2 and
-  // 0.03 (500 / free)^1.5 at k = 3, at most 0.3: its share shrinks as the support grows, like the
-  // fit's width). The order-k energy sees only the Laplacian coordinates, which are nearly zero on
-  // smooth parts: it lets the inside of a bend or a twisted limb compress freely. The membrane is
-  // ARAP's spokes-and-rims energy (face_fans.h); its edges turn with their own 1-ring rotations
-  // (ARAP's) at k = 2 and at k = 3 up to 10k free vertices, beyond with the smoothed ones. Costs
-  // one more factorization at the start. Measured (docs/nonlinear.md, "Gallery"): fewer than half
-  // the collapsed faces of the model without it; the whole-cactus bend and the k = 3 pulls are clean.
+  // 0.03 (500 / free)^1.5 at k = 3, one power more below 500 free, at most 0.6: its share
+  // shrinks as the support grows, like the fit's width). The order-k energy sees only the
+  // Laplacian coordinates, which are nearly zero on smooth parts: it lets the inside of a bend or
+  // a twisted limb compress freely. The membrane is ARAP's spokes-and-rims energy (face_fans.h);
+  // its edges turn with their own 1-ring rotations (ARAP's) at k = 2 and at k = 3 up to 10k free
+  // vertices, beyond with the smoothed ones. Costs one more factorization at the start. Measured
+  // (docs/nonlinear.md, "Gallery"): fewer than half the collapsed faces of the model without it;
+  // the whole-cactus bend and the k = 3 pulls are clean.
   double membrane = -1.0;
   // Images of the local/global map combined by Anderson acceleration (anderson.h; 0: plain
   // iteration). Measured (docs/nonlinear.md): a third to two thirds fewer iterations on the
