@@ -130,8 +130,8 @@ struct Cholmod : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
       parallel_for(static_cast<std::ptrdiff_t>(l->xsize), std::ptrdiff_t{1} << 18,
                    [x](std::ptrdiff_t begin, std::ptrdiff_t end) { std::fill(x + begin, x + end, 0.0); });
     }
-    cholmod_sparse s = cholmod_lower_view(static_cast<std::size_t>(lower.rows()), p.inner.size(), p.outer.data(), p.inner.data(),
-                                          p.value.data());
+    cholmod_sparse s = cholmod_lower_view(static_cast<std::size_t>(lower.rows()), p.inner.size(), p.outer.data(),
+                                          p.inner.data(), p.value.data());
     cholmod_super_numeric(&s, nullptr, this->m_shiftOffset, l, &this->cholmod());
     this->m_info = l->minor == l->n ? Eigen::Success : Eigen::NumericalIssue;
     this->m_factorizationIsOk = true;

@@ -57,10 +57,10 @@ void weighted_postorder(int n, int* perm, int* count, std::vector<int>& parent, 
 // (cholmod_analyze_ordering's steps).
 bool count_columns(const cholmod_sparse& lower, cholmod_factor* l, std::vector<int>& parent, cholmod_common* common) {
   const auto n = static_cast<std::size_t>(lower.nrow);
-  PermutedPattern upper(lower, static_cast<const int*>(l->Perm), Triangle::upper);
+  PermutedPattern triu(lower, static_cast<const int*>(l->Perm), Triangle::upper);
   PermutedPattern tril(lower, static_cast<const int*>(l->Perm), Triangle::lower);
   std::vector<int> post(n), first(n), level(n);
-  bool ok = cholmod_etree(&upper.view, parent.data(), common) &&
+  bool ok = cholmod_etree(&triu.view, parent.data(), common) &&
             cholmod_postorder(parent.data(), n, nullptr, post.data(), common) == static_cast<SuiteSparse_long>(n);
   if (!ok && common->status == CHOLMOD_OK) common->status = CHOLMOD_INVALID;
   return ok && cholmod_rowcolcounts(&tril.view, nullptr, 0, parent.data(), post.data(), nullptr,
@@ -90,9 +90,9 @@ cholmod_factor* analyze_supernodal_given(const cholmod_sparse& lower, const int*
       l->ordering = CHOLMOD_GIVEN;
       if (common->postorder)
         weighted_postorder(n, static_cast<int*>(l->Perm), static_cast<int*>(l->ColCount), parent, common);
-      PermutedPattern upper(lower, static_cast<const int*>(l->Perm), Triangle::upper);
+      PermutedPattern triu(lower, static_cast<const int*>(l->Perm), Triangle::upper);
       PermutedPattern tril(lower, static_cast<const int*>(l->Perm), Triangle::lower);
-      cholmod_super_symbolic2(1, &upper.view, &tril.view, parent.data(), l, common);
+      cholmod_super_symbolic2(1, &triu.view, &tril.view, parent.data(), l, common);
     }
   } catch (const std::bad_alloc&) {
     common->status = CHOLMOD_OUT_OF_MEMORY;
