@@ -59,6 +59,18 @@ void parallel_rows(int n, const F& f) {
   });
 }
 
+// a * x row by row on the pool, each row summed in column order: the bits of Eigen's serial
+// product of the column-major a.
+void times_rows(const Eigen::SparseMatrix<double, Eigen::RowMajor>& a, const Eigen::MatrixXd& x,
+                Eigen::Ref<Eigen::MatrixXd> out) {
+  parallel_rows(static_cast<int>(a.rows()), [&](int i) {
+    Vec3 sum = Vec3::Zero();
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator e(a, i); e; ++e)
+      sum += e.value() * x.row(e.col()).transpose();
+    out.row(i) = sum.transpose();
+  });
+}
+
 // Rows [0, rows) of the rest's Laplacian coordinates with each edge turned by the mean of its ends
 // rot(i) (scale times rotation minus the identity): rotated minus rest, exactly zero at rest. An
 // edge between a free and a constrained vertex turns with the row's own vertex, not with the mean:
@@ -101,6 +113,8 @@ struct NonlinearSolver::Data {
   RowMatrixX3d x;                    // (P + C) x 3, current
   Eigen::MatrixXd phi;               // P x M: BCM's weight of movable handle m at free vertex i
   std::vector<int> owner;            // per constrained vertex: movable handle or -1
+  Eigen::SparseMatrix<double, Eigen::RowMajor> outer;  // sys->outer by rows, for times_rows
+  bool residual_checked = false;                       // the factor's backward error, checked once per start
   // CSR: 1-ring (local indices) of each row of sys->lap: the free vertices, then the
   // constrained (k-1)-ring, whose covariances the smoothing passes also sum (fit_rotations()).
   std::vector<int> nbr_offset, nbr;
@@ -149,6 +163,7 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
   n_movable_ = linear.n_movable();
   const int p = n_free_, c = static_cast<int>(d.sys->constrained.size());
   d.n_inner = static_cast<int>(d.sys->lap.rows());
+  d.outer = d.sys->outer;
 
   VertexData<int> local(static_cast<std::size_t>(mesh.n_vertices()), -1);
   d.rest.resize(p + c, 3);
@@ -279,7 +294,7 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
   if (linear) d.linear = *linear;
   if (d.volumes) d.volumes->start(transforms, d.scale, handle_s, d.x);
   d.anderson->reset();
-  d.fitted = d.accelerated = false;
+  d.fitted = d.accelerated = d.residual_checked = false;
   d.best_step = std::numeric_limits<double>::infinity();
   state_ = {};
 }
@@ -309,7 +324,9 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
       arap_rows(d.rot, d.b1);
     else
       rotated_edges(lap, d.rest.data(), n_inner, p, field(d.rot), d.b1);
-    Eigen::MatrixXd rhs = d.sys->outer * d.b1 - d.ac;
+    Eigen::MatrixXd rhs(p, 3);
+    times_rows(d.outer, d.b1, rhs);
+    rhs -= d.ac;
     if (!d.local_membrane) {
       if (d.mu != 0.0) rhs += d.mu * d.b1.topRows(p);
     } else {
@@ -321,7 +338,10 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
       arap_rows(d.rot_local, d.b_mem);
       rhs += d.mu * d.b_mem;
     }
-    const Eigen::MatrixXd disp = d.sys->solver.solve(rhs);
+    // The backward error depends on the factor far more than on the right-hand side: the
+    // first step after a start checks it, the others reuse that check.
+    const Eigen::MatrixXd disp = d.sys->solver.solve(rhs, !d.residual_checked);
+    d.residual_checked = true;
     d.last = d.x.topRows(p);
     d.x.topRows(p) = d.rest.topRows(p) + disp;
     if (d.volumes) keep_volumes();
@@ -423,10 +443,10 @@ void NonlinearSolver::keep_volumes() {
   Eigen::MatrixXd rhs(p, 3 * n);
   for (int c = 0; c < n; ++c) {
     d.volumes->gradient(c, d.x, d.grad);
-    rhs.middleCols(3 * c, 3) = d.sys->outer * d.grad;
+    times_rows(d.outer, d.grad, rhs.middleCols(3 * c, 3));
     if (d.mu != 0.0) rhs.middleCols(3 * c, 3) += d.mu * d.grad.topRows(p);  // (outer + mu E) grad
   }
-  // No residual check: this iteration's step solved with the same factor and was checked.
+  // No residual check: the same factor's was checked (iterate).
   const Eigen::MatrixXd u = d.sys->solver.solve(rhs, false);
   for (int c = 0; c < n; ++c) {
     const Eigen::MatrixXd uc = u.middleCols(3 * c, 3);
