@@ -140,6 +140,31 @@ TEST(Nonlinear, IterationCapIsReported) {
   EXPECT_EQ(solver.problems(p).non_finite, 0);
 }
 
+// Above 10,000 free vertices the volume term's response is solved together with the step
+// (nonlinear_solver.cpp, kJointVolumeMinFree): the rest is still a fixed point, exactly, and a
+// bend keeps the capsule's volume and converges.
+TEST(Nonlinear, LargeSupportsKeepTheRestAndTheVolume) {
+  const Mesh mesh = Mesh::from_soup(make_capsule(0.5, 4.0, 100, 160));
+  const Vec3 pivot(0, 0, 3.5);
+  const std::vector<Eigen::Affine3d> bend{Eigen::Translation3d(pivot) * Eigen::AngleAxisd(1.2, Vec3::UnitY()) *
+                                          Eigen::Translation3d(-pivot)};
+  for (int k : {2, 3}) {
+    Edit e = two_ended(mesh, k, true);
+    e.nonlinear.tolerance = 1e-5;
+    const EditSolver solver(mesh, e);
+    int free = 0;
+    for (Vertex v : mesh.vertices()) free += mesh.position(v).z() >= 0.5 && mesh.position(v).z() <= 3.5;
+    ASSERT_GT(free, 10000);
+    VertexData<Vec3> p = mesh.positions();
+    solver.evaluate(std::vector<Eigen::Affine3d>(1, Eigen::Affine3d::Identity()), p);
+    EXPECT_EQ(max_distance(p, mesh.positions()), 0.0) << "k = " << k;
+    solver.evaluate(bend, p);
+    EXPECT_TRUE(solver.nonlinear_state()->converged) << "k = " << k;
+    EXPECT_NEAR(volume(mesh, p) / volume(mesh, mesh.positions()), 1.0, 1e-9) << "k = " << k;
+    EXPECT_GT(min_singular_value(mesh, mesh.positions(), p), 0.6) << "k = " << k;
+  }
+}
+
 // A caller (Python's Ctrl-C) can stop a solve between two iterations; the positions stay as
 // they were and the next evaluate starts afresh (the same result as without the cancel).
 TEST(Nonlinear, EvaluateCanBeCancelledBetweenIterations) {

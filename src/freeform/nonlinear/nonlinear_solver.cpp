@@ -45,6 +45,12 @@ constexpr double kMembraneFree = 500.0, kMaxMembrane = 0.6;
 // 35k-vertex drags the 1-ring rotations took 57-75 iterations to settle instead of 28-36, and the
 // gallery's k = 3 counts were the same with this limit as without it.
 constexpr int kLocalMembraneMaxFree = 10000;
+// Above this many free vertices the volume term's response to the gradient at the iterate is
+// solved together with the step (one back-substitution of 6 columns instead of two of 3; the
+// solves are most of an iteration there). Below it the response is to the gradient after the
+// step, a second back-substitution: with the joint solve at every size 5 instead of 1 (k = 2)
+// and 2 (k = 3) gallery runs stopped at the cap (docs/nonlinear.md, "What the gallery found", 16).
+constexpr int kJointVolumeMinFree = 10000;
 // Largest uniform scale (and smallest, its inverse) of a handle the model spreads (start()).
 constexpr double kMaxHandleScale = 1000.0;
 
@@ -150,6 +156,23 @@ struct NonlinearSolver::Data {
   // ends on (in a cycle the last iterate can be its worst point).
   RowMatrixX3d best;
   double best_step = 0.0;
+
+  // Per closed component (3 columns each), (outer + mu E) times its volume gradient at x: the
+  // right-hand sides of the operator's responses u.
+  void volume_rhs(int p, Eigen::Ref<Eigen::MatrixXd> out) {
+    for (int c = 0; c < volumes->count(); ++c) {
+      volumes->gradient(c, x, grad);
+      times_rows(outer, grad, out.middleCols(3 * c, 3));
+      if (mu != 0.0) out.middleCols(3 * c, 3) += mu * grad.topRows(p);
+    }
+  }
+  // Adds each component's response times the multiplier that restores its target volume.
+  void restore_volumes(int p, const Eigen::MatrixXd& u) {
+    for (int c = 0; c < volumes->count(); ++c) {
+      const Eigen::MatrixXd uc = u.middleCols(3 * c, 3);
+      x.topRows(p) += volumes->multiplier(c, x, uc) * uc;
+    }
+  }
 };
 
 NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSolver& linear,
@@ -324,7 +347,10 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
       arap_rows(d.rot, d.b1);
     else
       rotated_edges(lap, d.rest.data(), n_inner, p, field(d.rot), d.b1);
-    Eigen::MatrixXd rhs(p, 3);
+    const int volume_cols = d.volumes ? 3 * d.volumes->count() : 0;
+    const bool joint = volume_cols > 0 && p > kJointVolumeMinFree;
+    Eigen::MatrixXd both(p, 3 + (joint ? volume_cols : 0));
+    auto rhs = both.leftCols(3);
     times_rows(d.outer, d.b1, rhs);
     rhs -= d.ac;
     if (!d.local_membrane) {
@@ -338,13 +364,17 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
       arap_rows(d.rot_local, d.b_mem);
       rhs += d.mu * d.b_mem;
     }
+    if (joint) d.volume_rhs(p, both.rightCols(volume_cols));
     // The backward error depends on the factor far more than on the right-hand side: the
     // first step after a start checks it, the others reuse that check.
-    const Eigen::MatrixXd disp = d.sys->solver.solve(rhs, !d.residual_checked);
+    const Eigen::MatrixXd solution = d.sys->solver.solve(both, !d.residual_checked);
     d.residual_checked = true;
     d.last = d.x.topRows(p);
-    d.x.topRows(p) = d.rest.topRows(p) + disp;
-    if (d.volumes) keep_volumes();
+    d.x.topRows(p) = d.rest.topRows(p) + solution.leftCols(3);
+    if (joint)
+      d.restore_volumes(p, solution.rightCols(volume_cols));
+    else if (d.volumes)
+      keep_volumes();
     state_.step = p > 0 ? (d.x.topRows(p) - d.last).rowwise().norm().maxCoeff() / d.extent : 0.0;
     ++state_.iterations;
     // Not on the first step after a start: its move is measured from the warm start's
@@ -434,24 +464,16 @@ void NonlinearSolver::arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::
 }
 
 void NonlinearSolver::keep_volumes() {
-  // Per closed component, the operator's response u to the volume gradient at this iterate
-  // (one more back-substitution, 3 columns each), added with the multiplier that restores
-  // the target volume. (The gradient of the previous iterate saves that solve but took 3-8x
-  // more iterations on the twisted bar and squeezed faces to 0.59.)
+  // Per closed component, the operator's response u to the volume gradient after the step
+  // (one more back-substitution, 3 columns each), added with the multiplier that restores the
+  // target volume. On large supports iterate() solves the response to the gradient before the
+  // step together with the step instead (kJointVolumeMinFree).
   Data& d = *d_;
-  const int n = d.volumes->count(), p = n_free_;
-  Eigen::MatrixXd rhs(p, 3 * n);
-  for (int c = 0; c < n; ++c) {
-    d.volumes->gradient(c, d.x, d.grad);
-    times_rows(d.outer, d.grad, rhs.middleCols(3 * c, 3));
-    if (d.mu != 0.0) rhs.middleCols(3 * c, 3) += d.mu * d.grad.topRows(p);  // (outer + mu E) grad
-  }
+  const int p = n_free_;
+  Eigen::MatrixXd rhs(p, 3 * d.volumes->count());
+  d.volume_rhs(p, rhs);
   // No residual check: the same factor's was checked (iterate).
-  const Eigen::MatrixXd u = d.sys->solver.solve(rhs, false);
-  for (int c = 0; c < n; ++c) {
-    const Eigen::MatrixXd uc = u.middleCols(3 * c, 3);
-    d.x.topRows(p) += d.volumes->multiplier(c, d.x, uc) * uc;
-  }
+  d.restore_volumes(p, d.sys->solver.solve(rhs, false));
 }
 
 void NonlinearSolver::fit_rotations() {
