@@ -5,6 +5,9 @@
 #include <cmath>
 
 namespace freeform {
+namespace {
+constexpr double kQuadraticExit = 1e-7;
+}  // namespace
 
 Vec3 rotation_vector(const Eigen::Quaterniond& q) {
   Eigen::Quaterniond u = q.normalized();
@@ -40,6 +43,9 @@ int extract_rotation(const Eigen::Matrix3d& a, Eigen::Quaterniond& q, int max_it
     const Eigen::Quaterniond step = angle < 1e-4 ? Eigen::Quaterniond(1.0, 0.5 * d.x(), 0.5 * d.y(), 0.5 * d.z())
                                                  : rotation_from_vector(d);
     q = (q * step).normalized();
+    // Newton converges quadratically: after a step this small the next one would be below the
+    // stopping threshold, so confirming it costs a whole iteration for nothing.
+    if (newton && angle < kQuadraticExit) return it + 1;
   }
   return max_iterations;
 }
