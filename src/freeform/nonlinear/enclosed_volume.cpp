@@ -153,7 +153,9 @@ void EnclosedVolumes::start(std::span<const Eigen::Affine3d> transforms, std::sp
     }
     for (int r : part.local_rows) cubes += std::pow(scale[static_cast<std::size_t>(r)], 3);
     part.fixed_sum = fixed_sum(part, x);
-    part.target = part.rest_volume * cubes / static_cast<double>(part.extra.size() + part.local_rows.size());
+    // The mean cube first: it is exactly 1 when no handle is scaled, so the target is the rest
+    // volume to the bit (rest_volume * n / n is not, for some n) and the rest stays a fixed point.
+    part.target = part.rest_volume * (cubes / static_cast<double>(part.extra.size() + part.local_rows.size()));
   }
 }
 
