@@ -89,6 +89,23 @@ TEST(EnclosedVolumes, VolumeFollowsTheHandleGivenToStart) {
   EXPECT_NEAR(v.volume(0, x) * std::pow(v.scale(0), 3), expected, 1e-12 * std::abs(expected));
 }
 
+// Identity transforms and no scaled handle: the target is the rest volume to the bit, so the
+// multiplier is exactly 0 at the rest and the rest stays a fixed point of the model, whatever
+// the number of rows (rest * n / n is not the rest for every n).
+TEST(EnclosedVolumes, UnscaledTargetIsTheRestVolumeExactly) {
+  for (int subdivisions = 1; subdivisions <= 3; ++subdivisions)
+    for (int k = 0; k < 12; ++k) {
+      const HalfSphere s = sphere(0.5 + 0.37 * k, Vec3(0.1 * k, -0.3, 0.7), subdivisions);
+      EnclosedVolumes v(s.mesh, s.mesh.positions(), s.local, s.n_free, s.regions);
+      const Eigen::Affine3d identity = Eigen::Affine3d::Identity();
+      const std::vector<double> scale(static_cast<std::size_t>(s.x.rows()), 1.0);
+      const double handle_scale[] = {1.0};
+      v.start(std::span(&identity, 1), scale, handle_scale, s.x);
+      const Eigen::MatrixXd u = s.x.topRows(s.n_free);
+      EXPECT_EQ(v.multiplier(0, s.x, u), 0.0) << "subdivisions " << subdivisions << ", sphere " << k;
+    }
+}
+
 TEST(EnclosedVolumes, GradientMatchesFiniteDifferences) {
   const HalfSphere s = sphere(1.0, Vec3(0.3, 0.1, -0.2));
   const EnclosedVolumes v(s.mesh, s.mesh.positions(), s.local, s.n_free, s.regions);
