@@ -48,8 +48,9 @@ constexpr int kLocalMembraneMaxFree = 10000;
 // Above this many free vertices the volume term's response to the gradient at the iterate is
 // solved together with the step (one back-substitution of 6 columns instead of two of 3; the
 // solves are most of an iteration there). Below it the response is to the gradient after the
-// step, a second back-substitution: with the joint solve at every size 5 instead of 1 (k = 2)
-// and 2 (k = 3) gallery runs stopped at the cap (docs/nonlinear.md, "What the gallery found", 16).
+// step, a second back-substitution: with the joint solve at every size, 5 gallery runs stopped
+// at the cap at k = 2 and 5 at k = 3 instead of 1 and 2 (docs/nonlinear.md, "What the gallery
+// found", 16).
 constexpr int kJointVolumeMinFree = 10000;
 // Largest uniform scale (and smallest, its inverse) of a handle the model spreads (start()).
 constexpr double kMaxHandleScale = 1000.0;
