@@ -118,11 +118,12 @@ inline TriangleSoup make_flat_cylinder(double radius, double length, int segment
   return make_lathe(circles, 0.0, length, segments);
 }
 
-// Enclosed volume (divergence theorem; positive for outward faces).
-inline double volume(const Mesh& mesh, const VertexData<Vec3>& p) {
+// Enclosed volume (divergence theorem; positive for outward faces) of the faces [first, last)
+// (last < 0: all of them; a range: one closed component whose faces are contiguous).
+inline double volume(const Mesh& mesh, const VertexData<Vec3>& p, int first = 0, int last = -1) {
   double v = 0;
-  for (Face f : mesh.faces()) {
-    const auto c = mesh.vertices(f);
+  for (int f = first; f < (last < 0 ? mesh.n_faces() : last); ++f) {
+    const auto c = mesh.vertices(Face(f));
     v += p[c[0]].dot(p[c[1]].cross(p[c[2]])) / 6.0;
   }
   return v;

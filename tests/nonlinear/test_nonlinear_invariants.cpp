@@ -153,16 +153,6 @@ TriangleSoup two_capsules(int segments, int rings) {
   return soup;
 }
 
-// Enclosed volume of the faces [first, last) (one component of two_capsules).
-double volume_of(const Mesh& mesh, const VertexData<Vec3>& p, int first, int last) {
-  double v = 0;
-  for (int f = first; f < last; ++f) {
-    const auto c = mesh.vertices(Face(f));
-    v += p[c[0]].dot(p[c[1]].cross(p[c[2]])) / 6.0;
-  }
-  return v;
-}
-
 // Above 10,000 free vertices the volume term's response is solved together with the step
 // (nonlinear_solver.cpp, kJointVolumeMinFree), 3 columns per closed component: the rest is
 // still a fixed point, exactly, and a bend keeps the volume of each capsule and converges.
@@ -185,7 +175,7 @@ TEST(Nonlinear, LargeSupportsKeepTheRestAndTheVolume) {
     solver.evaluate(bend, p);
     EXPECT_TRUE(solver.nonlinear_state()->converged) << "k = " << k;
     for (const auto& [first, last] : {std::pair{0, half}, std::pair{half, 2 * half}})
-      EXPECT_NEAR(volume_of(mesh, p, first, last) / volume_of(mesh, mesh.positions(), first, last), 1.0, 1e-9)
+      EXPECT_NEAR(volume(mesh, p, first, last) / volume(mesh, mesh.positions(), first, last), 1.0, 1e-9)
           << "k = " << k << ", faces from " << first;
     EXPECT_GT(min_singular_value(mesh, mesh.positions(), p), 0.6) << "k = " << k;
   }
