@@ -54,17 +54,34 @@ FaceFans::FaceFans(const Mesh& mesh, const VertexData<int>& local, std::span<con
       }
     }
     offset_.push_back(static_cast<int>(faces_.size()));
+    add_spokes(i, fan, rest);
   }
 }
 
-Eigen::Matrix3d FaceFans::covariance(int i, const double* x, const double* rest) const {
+void FaceFans::add_spokes(int i, std::span<const Face> fan, const double* rest) {
+  if (spoke_offset_.empty()) spoke_offset_.push_back(0);
+  const std::size_t first = spokes_.size();
+  const auto add = [&](int a, int b, double w) {
+    auto it = std::find_if(spokes_.begin() + static_cast<std::ptrdiff_t>(first), spokes_.end(),
+                           [a](const Spoke& s) { return s.a == a; });
+    if (it == spokes_.end()) it = spokes_.insert(it, {a, Vec::Zero()});
+    it->g += w * (row(rest, a) - row(rest, b));
+  };
+  for (const Face& f : fan) {
+    add(f.j, i, f.cj);
+    add(f.n, i, f.cn);
+    add(f.j, f.n, f.ci);
+    add(f.n, f.j, f.ci);
+  }
+  spoke_offset_.push_back(static_cast<int>(spokes_.size()));
+}
+
+Eigen::Matrix3d FaceFans::covariance(int i, const double* x) const {
   Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
-  const Vec xi = row(x, i), ri = row(rest, i);
-  for (int k = offset_[static_cast<std::size_t>(i)]; k < offset_[static_cast<std::size_t>(i) + 1]; ++k) {
-    const Face& f = faces_[static_cast<std::size_t>(k)];
-    s += f.cj * (row(x, f.j) - xi) * (row(rest, f.j) - ri).transpose();
-    s += f.cn * (row(x, f.n) - xi) * (row(rest, f.n) - ri).transpose();
-    s += f.ci * (row(x, f.n) - row(x, f.j)) * (row(rest, f.n) - row(rest, f.j)).transpose();
+  const Vec xi = row(x, i);
+  for (int k = spoke_offset_[static_cast<std::size_t>(i)]; k < spoke_offset_[static_cast<std::size_t>(i) + 1]; ++k) {
+    const Spoke& e = spokes_[static_cast<std::size_t>(k)];
+    s.noalias() += (row(x, e.a) - xi) * e.g.transpose();
   }
   return s;
 }

@@ -26,8 +26,9 @@ class FaceFans {
 
   // The rotation fit's covariance of row i: sum over its fan of w_ab (x_a - x_b)(r_a - r_b)^T
   // for the three edges of each face, w the positive part of the cotangent opposite the edge
-  // plus a floor (so that no edge of a needle triangle drops out of the fit).
-  Eigen::Matrix3d covariance(int i, const double* x, const double* rest) const;
+  // plus a floor (so that no edge of a needle triangle drops out of the fit). Summed as
+  // sum_a (x_a - x_i) g_a^T over the ring, g_a the rest's part gathered once.
+  Eigen::Matrix3d covariance(int i, const double* x) const;
 
   // ARAP's right-hand side of row i (a free row) as rotated minus rest Laplacian coordinates:
   // each face's two edges at i turned by the mean of its three corners' rot (scale times
@@ -42,8 +43,16 @@ class FaceFans {
     double wj, wn;      // lap's weight of edges (i, j) and (i, n) carried by this face
     double cj, cn, ci;  // fit weights of edges (i, j), (i, n), (j, n)
   };
-  std::vector<int> offset_;
+  struct Spoke {
+    int a;              // a ring vertex of the row
+    Eigen::Vector3d g;  // sum over the fan's edges (a, b) of w_ab (r_a - r_b)
+  };
+  // Gathers row i's spokes from its fan.
+  void add_spokes(int i, std::span<const Face> fan, const double* rest);
+
+  std::vector<int> offset_, spoke_offset_;
   std::vector<Face> faces_;
+  std::vector<Spoke> spokes_;
 };
 
 }  // namespace freeform

@@ -6,6 +6,7 @@
 #include "freeform/nonlinear/anderson.h"
 #include "freeform/nonlinear/enclosed_volume.h"
 #include "freeform/nonlinear/face_fans.h"
+#include "freeform/nonlinear/ring_smoothing.h"
 #include "freeform/nonlinear/rotation.h"
 
 #include <Eigen/SVD>
@@ -122,9 +123,9 @@ struct NonlinearSolver::Data {
   std::vector<int> owner;            // per constrained vertex: movable handle or -1
   Eigen::SparseMatrix<double, Eigen::RowMajor> outer;  // sys->outer by rows, for times_rows
   bool residual_checked = false;                       // the factor's backward error, checked once per start
-  // CSR: 1-ring (local indices) of each row of sys->lap: the free vertices, then the
-  // constrained (k-1)-ring, whose covariances the smoothing passes also sum (fit_rotations()).
-  std::vector<int> nbr_offset, nbr;
+  // The rotation fit's smoothing over the rows of sys->lap: the free vertices, then the
+  // constrained (k-1)-ring, whose covariances it also sums (fit_rotations()).
+  std::optional<RingSmoothing> smoothing;
   std::optional<FaceFans> fans;      // the rows' triangle fans: the rotation fit and ARAP's right-hand side
   double extent = 1.0;
   int smoothing_rings = 0;           // NonlinearOptions::rotation_smoothing, resolved
@@ -218,14 +219,9 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
   for (int m = 0; m < n_movable_; ++m)
     d.phi.col(m) = linear.basis().middleCols(4 * m, 4).rowwise().sum().cwiseMax(0.0).cwiseMin(1.0);
 
-  // The 1-ring of each free vertex and of the constrained (k-1)-ring (the rows of the operator's
-  // Laplacian), whose covariances the smoothing passes sum, and their triangle fans.
-  d.nbr_offset.assign(1, 0);
-  for (int i = 0; i < d.n_inner; ++i) {
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(d.sys->lap, i); it; ++it)
-      if (it.col() != i) d.nbr.push_back(static_cast<int>(it.col()));
-    d.nbr_offset.push_back(static_cast<int>(d.nbr.size()));
-  }
+  // The smoothing over the free vertices and the constrained (k-1)-ring (the rows of the
+  // operator's Laplacian), and their triangle fans.
+  d.smoothing.emplace(d.sys->lap, d.smoothing_rings);
   std::vector<Vertex> global(free.begin(), free.end());
   global.insert(global.end(), d.sys->constrained.begin(), d.sys->constrained.end());
   d.fans.emplace(mesh, local, global, d.rest.data(), d.sys->lap);
@@ -481,8 +477,7 @@ void NonlinearSolver::fit_rotations() {
   Data& d = *d_;
   const int p = n_free_;
   const double* x = d.x.data();
-  const double* xr = d.rest.data();
-  parallel_rows(d.n_inner, [&](int i) { d.cov[static_cast<std::size_t>(i)] = d.fans->covariance(i, x, xr); });
+  parallel_rows(d.n_inner, [&](int i) { d.cov[static_cast<std::size_t>(i)] = d.fans->covariance(i, x); });
   if (d.local_membrane)  // the membrane's rotations: the 1-ring alone
     parallel_rows(p, [&](int i) {
       extract_rotation(d.cov[static_cast<std::size_t>(i)], d.q_local[static_cast<std::size_t>(i)]);
@@ -492,18 +487,7 @@ void NonlinearSolver::fit_rotations() {
   // constrained (k-1)-ring takes part with its own deformed 1-rings: summed over the free side
   // alone, the patch of a vertex near the fixed rim would lean toward the rotated interior and
   // that of a vertex near a handle toward the less rotated one (the gallery, docs/nonlinear.md).
-  for (int pass = 0; pass < d.smoothing_rings; ++pass) {
-    parallel_rows(d.n_inner, [&](int i) {
-      const auto ui = static_cast<std::size_t>(i);
-      Eigen::Matrix3d s = d.cov[ui];
-      for (int k = d.nbr_offset[ui]; k < d.nbr_offset[ui + 1]; ++k) {
-        const int j = d.nbr[static_cast<std::size_t>(k)];
-        if (j < d.n_inner) s += d.cov[static_cast<std::size_t>(j)];
-      }
-      d.cov2[ui] = s;
-    });
-    std::swap(d.cov, d.cov2);
-  }
+  d.smoothing->apply(d.cov, d.cov2);
   parallel_rows(p, [&](int i) { extract_rotation(d.cov[static_cast<std::size_t>(i)], d.q[static_cast<std::size_t>(i)]); });
 }
 

@@ -1,7 +1,5 @@
 #include "freeform/nonlinear/rotation.h"
 
-#include <Eigen/Cholesky>
-
 #include <cmath>
 
 namespace freeform {
@@ -30,18 +28,32 @@ int extract_rotation(const Eigen::Matrix3d& a, Eigen::Quaterniond& q, int max_it
     const Eigen::Matrix3d s = q.toRotationMatrix().transpose() * a;
     const Vec3 g(s(2, 1) - s(1, 2), s(0, 2) - s(2, 0), s(1, 0) - s(0, 1));
     const double tr = s.trace();
-    const Eigen::Matrix3d h = tr * Eigen::Matrix3d::Identity() - 0.5 * (s + s.transpose());
-    const Eigen::LLT<Eigen::Matrix3d> llt(h);
+    // H's LDL^T by hand (a third of the fit's time went to a general 3 x 3 Cholesky).
+    const double h00 = tr - s(0, 0), h11 = tr - s(1, 1), h22 = tr - s(2, 2);
+    const double h01 = -0.5 * (s(0, 1) + s(1, 0)), h02 = -0.5 * (s(0, 2) + s(2, 0)), h12 = -0.5 * (s(1, 2) + s(2, 1));
     const double floor = 1e-9 * std::abs(tr);
-    const bool newton = tr > 0 && llt.info() == Eigen::Success && llt.matrixLLT().diagonal().minCoeff() > std::sqrt(floor);
     // Newton's step where H is safely definite (quadratic convergence); elsewhere Mueller
     // et al.'s gradient step, which turns towards the maximum from any start.
-    Vec3 d = newton ? Vec3(llt.solve(g)) : Vec3(g / (std::abs(tr) + 1e-300));
+    bool newton = false;
+    Vec3 d = g / (std::abs(tr) + 1e-300);
+    if (tr > 0 && h00 > floor) {
+      const double l10 = h01 / h00, l20 = h02 / h00, p1 = h11 - l10 * h01;
+      if (p1 > floor) {
+        const double r12 = h12 - l20 * h01, l21 = r12 / p1, p2 = h22 - l20 * h02 - l21 * r12;
+        newton = p2 > floor;
+        if (newton) {
+          const double y1 = g(1) - l10 * g(0), y2 = g(2) - l20 * g(0) - l21 * y1;
+          d(2) = y2 / p2;
+          d(1) = y1 / p1 - l21 * d(2);
+          d(0) = g(0) / h00 - l10 * d(1) - l20 * d(2);
+        }
+      }
+    }
     const double angle = d.norm();
-    if (!(angle > 1e-13)) return it;  // also stops on NaN: q stays a rotation
+    if (!(angle > 1e-13)) return it;    // also stops on NaN: q stays a rotation
     if (angle > 1.0) d *= 1.0 / angle;  // far from the maximum the model is not trusted
-    const Eigen::Quaterniond step = angle < 1e-4 ? Eigen::Quaterniond(1.0, 0.5 * d.x(), 0.5 * d.y(), 0.5 * d.z())
-                                                 : rotation_from_vector(d);
+    const Eigen::Quaterniond step =
+        angle < 1e-4 ? Eigen::Quaterniond(1.0, 0.5 * d.x(), 0.5 * d.y(), 0.5 * d.z()) : rotation_from_vector(d);
     q = (q * step).normalized();
     // Newton converges quadratically: after a step this small the next one would be below the
     // stopping threshold, so confirming it costs a whole iteration for nothing.
