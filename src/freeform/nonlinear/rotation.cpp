@@ -28,7 +28,7 @@ int extract_rotation(const Eigen::Matrix3d& a, Eigen::Quaterniond& q, int max_it
     const Eigen::Matrix3d s = q.toRotationMatrix().transpose() * a;
     const Vec3 g(s(2, 1) - s(1, 2), s(0, 2) - s(2, 0), s(1, 0) - s(0, 1));
     const double tr = s.trace();
-    // H's LDL^T by hand (a third of the fit's time went to a general 3 x 3 Cholesky).
+    // H's LDL^T written out: cheaper than a general 3 x 3 Cholesky, and it is most of a step.
     const double h00 = tr - s(0, 0), h11 = tr - s(1, 1), h22 = tr - s(2, 2);
     const double h01 = -0.5 * (s(0, 1) + s(1, 0)), h02 = -0.5 * (s(0, 2) + s(2, 0)), h12 = -0.5 * (s(1, 2) + s(2, 1));
     const double floor = 1e-9 * std::abs(tr);
@@ -50,10 +50,10 @@ int extract_rotation(const Eigen::Matrix3d& a, Eigen::Quaterniond& q, int max_it
       }
     }
     const double angle = d.norm();
-    if (!(angle > 1e-13)) return it;    // also stops on NaN: q stays a rotation
+    if (!(angle > 1e-13)) return it;  // also stops on NaN: q stays a rotation
     if (angle > 1.0) d *= 1.0 / angle;  // far from the maximum the model is not trusted
-    const Eigen::Quaterniond step =
-        angle < 1e-4 ? Eigen::Quaterniond(1.0, 0.5 * d.x(), 0.5 * d.y(), 0.5 * d.z()) : rotation_from_vector(d);
+    const Eigen::Quaterniond step = angle < 1e-4 ? Eigen::Quaterniond(1.0, 0.5 * d.x(), 0.5 * d.y(), 0.5 * d.z())
+                                                 : rotation_from_vector(d);
     q = (q * step).normalized();
     // Newton converges quadratically: after a step this small the next one would be below the
     // stopping threshold, so confirming it costs a whole iteration for nothing.
