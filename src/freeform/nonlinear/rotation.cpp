@@ -28,7 +28,7 @@ int extract_rotation(const Eigen::Matrix3d& a, Eigen::Quaterniond& q, int max_it
     const Eigen::Matrix3d s = q.toRotationMatrix().transpose() * a;
     const Vec3 g(s(2, 1) - s(1, 2), s(0, 2) - s(2, 0), s(1, 0) - s(0, 1));
     const double tr = s.trace();
-    // H's LDL^T written out: cheaper than a general 3 x 3 Cholesky, and it is most of a step.
+    // H's LDL^T written out: cheaper than a general 3 x 3 Cholesky.
     const double h00 = tr - s(0, 0), h11 = tr - s(1, 1), h22 = tr - s(2, 2);
     const double h01 = -0.5 * (s(0, 1) + s(1, 0)), h02 = -0.5 * (s(0, 2) + s(2, 0)), h12 = -0.5 * (s(1, 2) + s(2, 1));
     const double floor = 1e-9 * std::abs(tr);
