@@ -23,6 +23,7 @@ double fit_weight(double cot) { return std::max(cot, 0.0) + kFitFloor; }
 FaceFans::FaceFans(const Mesh& mesh, const VertexData<int>& local, std::span<const Vertex> global, const double* rest,
                    const Laplacian& lap) {
   offset_.assign(1, 0);
+  spoke_offset_.assign(1, 0);
   std::vector<std::array<double, 2>> cots;  // per face of the row's fan: |cot| at n and at j
   for (int i = 0; i < static_cast<int>(lap.rows()); ++i) {
     const std::size_t first = faces_.size();
@@ -33,7 +34,12 @@ FaceFans::FaceFans(const Mesh& mesh, const VertexData<int>& local, std::span<con
       if (j < 0 || n < 0) continue;
       // The operators' clamped cotangents (0 on a degenerate face); corner k weights the opposite edge.
       const detail::CornerWeights w = detail::corner_weights(row(rest, i), row(rest, j), row(rest, n));
-      faces_.push_back({j, n, 0.0, 0.0, fit_weight(w.cot[2]), fit_weight(w.cot[1]), fit_weight(w.cot[0])});
+      faces_.push_back({j, n, 0.0, 0.0});
+      // The fit's three edges (i, j), (i, n), (j, n), gathered on the row's ring.
+      add_spoke(i, j, i, fit_weight(w.cot[2]), rest);
+      add_spoke(i, n, i, fit_weight(w.cot[1]), rest);
+      add_spoke(i, j, n, fit_weight(w.cot[0]), rest);
+      add_spoke(i, n, j, fit_weight(w.cot[0]), rest);
       cots.push_back({std::abs(w.cot[2]), std::abs(w.cot[1])});
     }
     // Each edge's weight in lap, split between the faces of the fan that hold it.
@@ -54,26 +60,15 @@ FaceFans::FaceFans(const Mesh& mesh, const VertexData<int>& local, std::span<con
       }
     }
     offset_.push_back(static_cast<int>(faces_.size()));
-    add_spokes(i, fan, rest);
+    spoke_offset_.push_back(static_cast<int>(spokes_.size()));
   }
 }
 
-void FaceFans::add_spokes(int i, std::span<const Face> fan, const double* rest) {
-  if (spoke_offset_.empty()) spoke_offset_.push_back(0);
-  const std::size_t first = spokes_.size();
-  const auto add = [&](int a, int b, double w) {
-    auto it = std::find_if(spokes_.begin() + static_cast<std::ptrdiff_t>(first), spokes_.end(),
-                           [a](const Spoke& s) { return s.a == a; });
-    if (it == spokes_.end()) it = spokes_.insert(it, {a, Vec::Zero()});
-    it->g += w * (row(rest, a) - row(rest, b));
-  };
-  for (const Face& f : fan) {
-    add(f.j, i, f.cj);
-    add(f.n, i, f.cn);
-    add(f.j, f.n, f.ci);
-    add(f.n, f.j, f.ci);
-  }
-  spoke_offset_.push_back(static_cast<int>(spokes_.size()));
+void FaceFans::add_spoke(int i, int a, int b, double w, const double* rest) {
+  const auto first = spokes_.begin() + spoke_offset_[static_cast<std::size_t>(i)];
+  auto it = std::find_if(first, spokes_.end(), [a](const Spoke& s) { return s.a == a; });
+  if (it == spokes_.end()) it = spokes_.insert(it, {a, Vec::Zero()});
+  it->g += w * (row(rest, a) - row(rest, b));
 }
 
 Eigen::Matrix3d FaceFans::covariance(int i, const double* x) const {

@@ -39,16 +39,15 @@ class FaceFans {
 
  private:
   struct Face {
-    int j, n;           // the other corners, counter-clockwise from i
-    double wj, wn;      // lap's weight of edges (i, j) and (i, n) carried by this face
-    double cj, cn, ci;  // fit weights of edges (i, j), (i, n), (j, n)
+    int j, n;       // the other corners, counter-clockwise from i
+    double wj, wn;  // lap's weight of edges (i, j) and (i, n) carried by this face
   };
   struct Spoke {
     int a;              // a ring vertex of the row
     Eigen::Vector3d g;  // sum over the fan's edges (a, b) of w_ab (r_a - r_b)
   };
-  // Gathers row i's spokes from its fan.
-  void add_spokes(int i, std::span<const Face> fan, const double* rest);
+  // Adds w (r_a - r_b) to the spoke of ring vertex a of row i (the row being built).
+  void add_spoke(int i, int a, int b, double w, const double* rest);
 
   std::vector<int> offset_, spoke_offset_;
   std::vector<Face> faces_;

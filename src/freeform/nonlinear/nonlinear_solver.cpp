@@ -128,7 +128,6 @@ struct NonlinearSolver::Data {
   std::optional<RingSmoothing> smoothing;
   std::optional<FaceFans> fans;      // the rows' triangle fans: the rotation fit and ARAP's right-hand side
   double extent = 1.0;
-  int smoothing_rings = 0;           // NonlinearOptions::rotation_smoothing, resolved
   // Per local vertex: rotation times scale (free: fitted, warm-started; constrained: the
   // handle's, or the identity), and the free vertices' guidance rotation of the last start.
   std::vector<Eigen::Quaterniond> q, guide;
@@ -206,11 +205,11 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
   }
   d.x = d.rest;
   const double per_sqrt = options.smooth_rest ? kBaseSmoothingPerSqrtFree : kSmoothingPerSqrtFree;
-  d.smoothing_rings = options.rotation_smoothing >= 0
-                          ? options.rotation_smoothing
-                          : std::clamp(static_cast<int>(std::lround(per_sqrt * std::sqrt(double(p)))),
-                                       options.smooth_rest ? kMinBaseSmoothingRings : kMinSmoothingRings,
-                                       kMaxSmoothingRings);
+  const int smoothing_rings =
+      options.rotation_smoothing >= 0
+          ? options.rotation_smoothing
+          : std::clamp(static_cast<int>(std::lround(per_sqrt * std::sqrt(double(p)))),
+                       options.smooth_rest ? kMinBaseSmoothingRings : kMinSmoothingRings, kMaxSmoothingRings);
   if (p + c > 0) d.extent = std::max((d.rest.colwise().maxCoeff() - d.rest.colwise().minCoeff()).norm(), 1e-300);
 
   // Guidance weights: a translation t moves free vertex i by (sum of its basis row over the
@@ -221,7 +220,7 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
 
   // The smoothing over the free vertices and the constrained (k-1)-ring (the rows of the
   // operator's Laplacian), and their triangle fans.
-  d.smoothing.emplace(d.sys->lap, d.smoothing_rings);
+  d.smoothing.emplace(d.sys->lap, smoothing_rings);
   std::vector<Vertex> global(free.begin(), free.end());
   global.insert(global.end(), d.sys->constrained.begin(), d.sys->constrained.end());
   d.fans.emplace(mesh, local, global, d.rest.data(), d.sys->lap);

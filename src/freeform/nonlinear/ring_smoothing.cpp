@@ -14,7 +14,7 @@ namespace {
 constexpr int kChebyshevMinPasses = 16;
 // The filter's largest response below its pass band, relative to the top of the spectrum.
 constexpr double kRipple = 1e-3;
-constexpr int kPowerIterations = 100;
+constexpr int kPowerIterations = 20;
 constexpr std::ptrdiff_t kGrain = 1024;
 
 struct Band {
@@ -77,7 +77,9 @@ void RingSmoothing::design_filter() {
   const std::vector<int> comp = components(count);
   const auto of = [&comp](std::size_t i) { return static_cast<std::size_t>(comp[i]); };
   // Each component's top eigenvalue: power iteration from the constant vector, which starts
-  // close to the smoothest mode (its Rayleigh quotient, from below).
+  // close to the smoothest mode (its Rayleigh quotient, from below). A few steps suffice: the
+  // design barely moves with the last digits of the top (the gallery's and the editor's
+  // degrees are the same after 20 steps as after 100), and the steps are serial.
   std::vector<double> top(static_cast<std::size_t>(count)), xy(top.size()), xx(top.size());
   std::vector<double> x(static_cast<std::size_t>(n_), 1.0), y(x.size());
   for (int it = 0; it < kPowerIterations; ++it) {
