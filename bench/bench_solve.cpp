@@ -3,6 +3,8 @@
 // the same factor of the BCM system of bench_scale's support (a libcgal-demo mesh subdivided S
 // times, the first N free vertices breadth-first from vertex 0), alternating the two solves so
 // that both see the same machine. Per column count: each solve's median and fastest wall time.
+// The factorization too: ours (numerics/supernodal_factorization.h) against CHOLMOD's numeric
+// factorization, alternating, and how far apart the two factors' solves are.
 // Args: mesh_name subdivisions free_in_thousands k [repeats]. JSON on stdout.
 #include "bench_meshes.h"
 
@@ -33,16 +35,39 @@ int main(int argc, char** argv) {
   BcmSettings settings;
   settings.order = std::stoi(argv[4]);
   BcmSystem sys = assemble_bcm_system(mesh, mesh.positions(), regions, settings, false);
-  const PhaseClock factoring;
-  const SparseSolver solver(std::move(sys.a_pp), true);
-  nlohmann::json out = {{"rows", solver.rows()},
-                        {"factor_nonzeros", solver.factor_nonzeros()},
-                        {"threads", thread_budget()},
-                        {"subtrees", solver.parallel_subtrees()},
-                        {"serial_share", solver.serial_solve_share()},
-                        {"factorization_ms", factoring.elapsed().wall_ms}};
+  // The factorization (ordering included) with ours and CHOLMOD's numeric factorization, alternating.
+  std::vector<double> ours_ms, cholmod_ms;
   std::mt19937 rng(43);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::MatrixXd probe(sys.a_pp.rows(), 3);
+  for (Eigen::Index i = 0; i < probe.size(); ++i) probe.data()[i] = u(rng);
+  double factor_difference = 0.0;
+  for (int r = 0; r < repeats; ++r) {
+    Eigen::SparseMatrix<double> copy = sys.a_pp;
+    const PhaseClock c;
+    const SparseSolver reference(std::move(copy), true, SolverKind::Auto, nullptr, FactorKernel::Cholmod);
+    cholmod_ms.push_back(c.elapsed().wall_ms);
+    copy = sys.a_pp;
+    const PhaseClock o;
+    const SparseSolver subtrees(std::move(copy), true);
+    ours_ms.push_back(o.elapsed().wall_ms);
+    const Eigen::MatrixXd y = reference.solve(probe, false, SolveKernel::Cholmod);
+    factor_difference = std::max(
+        factor_difference, (subtrees.solve(probe, false, SolveKernel::Cholmod) - y).cwiseAbs().maxCoeff() /
+                               y.cwiseAbs().maxCoeff());
+  }
+  const SparseSolver solver(std::move(sys.a_pp), true);
+  nlohmann::json out = {
+      {"rows", solver.rows()},
+      {"factor_nonzeros", solver.factor_nonzeros()},
+      {"threads", thread_budget()},
+      {"subtrees", solver.parallel_subtrees()},
+      {"serial_share", solver.serial_solve_share()},
+      {"factorization_ms",
+       {{"subtrees", {{"median", bench::median(ours_ms)}, {"min", *std::min_element(ours_ms.begin(), ours_ms.end())}}},
+        {"cholmod",
+         {{"median", bench::median(cholmod_ms)}, {"min", *std::min_element(cholmod_ms.begin(), cholmod_ms.end())}}},
+        {"max_relative_difference_of_a_solve", factor_difference}}}};
   for (int m : {3, 7}) {
     Eigen::MatrixXd b(solver.rows(), m);
     for (Eigen::Index i = 0; i < b.size(); ++i) b.data()[i] = u(rng);

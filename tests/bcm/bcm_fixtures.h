@@ -3,6 +3,7 @@
 #pragma once
 
 #include "freeform/bcm/bcm_solver.h"
+#include "freeform/bcm/bcm_system.h"
 #include "freeform/edit/manipulator.h"
 #include "freeform/mesh/generators.h"
 #include "freeform/operators/operators.h"
@@ -179,6 +180,29 @@ inline RowMatrix evaluate_by_vertex(const BcmSolver& solver, const std::vector<E
 // max |a - b| / max(max |b|, 1e-300)
 inline double rel_diff(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return (a - b).cwiseAbs().maxCoeff() / std::max(b.cwiseAbs().maxCoeff(), 1e-300);
+}
+
+// A bumpy plane's order-k BCM system: the support x > 0.05, a handle near (0.9, 0.5).
+struct PlaneSystem {
+  Eigen::SparseMatrix<double> a;
+  explicit PlaneSystem(int cells, int order) {
+    const Mesh plane = Mesh::from_soup(make_bumpy_plane(cells, cells, 0.05, 2.0));
+    std::vector<Vertex> support;
+    for (Vertex v : plane.vertices())
+      if (plane.position(v).x() > 0.05) support.push_back(v);
+    const Regions regions(plane, support, {{within(plane, Vec3(0.9, 0.5, 0), std::max(0.05, 1.2 / cells)), true}});
+    BcmSettings settings;
+    settings.order = order;
+    a = assemble_bcm_system(plane, plane.positions(), regions, settings, false).a_pp;
+  }
+};
+
+inline Eigen::MatrixXd random_rhs(Eigen::Index rows, int cols, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::MatrixXd b(rows, cols);
+  for (Eigen::Index i = 0; i < b.size(); ++i) b.data()[i] = u(rng);
+  return b;
 }
 
 }  // namespace freeform::test

@@ -14,28 +14,6 @@
 namespace freeform::test {
 namespace {
 
-struct PlaneSystem {
-  Eigen::SparseMatrix<double> a;
-  explicit PlaneSystem(int cells, int order) {
-    const Mesh plane = Mesh::from_soup(make_bumpy_plane(cells, cells, 0.05, 2.0));
-    std::vector<Vertex> support;
-    for (Vertex v : plane.vertices())
-      if (plane.position(v).x() > 0.05) support.push_back(v);
-    const Regions regions(plane, support, {{within(plane, Vec3(0.9, 0.5, 0), std::max(0.05, 1.2 / cells)), true}});
-    BcmSettings settings;
-    settings.order = order;
-    a = assemble_bcm_system(plane, plane.positions(), regions, settings, false).a_pp;
-  }
-};
-
-Eigen::MatrixXd random_rhs(Eigen::Index rows, int cols, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Eigen::MatrixXd b(rows, cols);
-  for (Eigen::Index i = 0; i < b.size(); ++i) b.data()[i] = u(rng);
-  return b;
-}
-
 TEST(SupernodalSolve, AgreesWithCholmodsOwnSolveToRounding) {
   for (int order : {1, 2, 3}) {
     for (int cells : {6, 90}) {
@@ -85,7 +63,8 @@ TEST(SupernodalSolve, SmallFactorsAreOneSubtree) {
 
 #if FREEFORM_TEST_HAVE_CHOLMOD
 // SparseSolver makes CHOLMOD's permuted copy of the matrix itself, on all cores, and touches the
-// factor's pages first (numerics/permuted_lower.h): the factor must be CHOLMOD's own, bit for bit,
+// factor's pages first (numerics/permuted_lower.h): with CHOLMOD's numeric factorization
+// (FactorKernel::Cholmod) the factor must be CHOLMOD's own, bit for bit,
 // so CHOLMOD's solve with it gives the same bits as Eigen's plain CHOLMOD factorization.
 TEST(SupernodalSolve, FactorIsCholmodsOwnBitForBit) {
   for (int order : {1, 2, 3}) {
@@ -94,7 +73,7 @@ TEST(SupernodalSolve, FactorIsCholmodsOwnBitForBit) {
     const Eigen::SparseMatrix<double> lower = sys.a.triangularView<Eigen::Lower>();
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> reference(lower);
     ASSERT_EQ(reference.info(), Eigen::Success);
-    const SparseSolver solver(std::move(sys.a), true);
+    const SparseSolver solver(std::move(sys.a), true, SolverKind::Auto, nullptr, FactorKernel::Cholmod);
     ASSERT_EQ(solver.kind(), SolverKind::CholmodSupernodal);
     const Eigen::MatrixXd b = random_rhs(solver.rows(), 3, 17);
     const Eigen::MatrixXd want = reference.solve(b);

@@ -1,6 +1,7 @@
 #include "freeform/common/memory_limit.h"
 
 #include "freeform/common/error.h"
+#include "freeform/common/parallel.h"
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -49,7 +50,9 @@ std::string out_of_memory_message() {
 std::size_t blas_buffer_bytes() {
   if (!openblas_get_num_threads) return 0;
   constexpr std::size_t kOpenBlasBuffer = std::size_t{128} << 20;
-  return kOpenBlasBuffer * static_cast<std::size_t>(std::max(openblas_get_num_threads(), 1));
+  // One buffer per OpenBLAS thread, and one per pool worker that calls it (the factorization's
+  // subtrees, numerics/supernodal_factorization.h).
+  return kOpenBlasBuffer * static_cast<std::size_t>(std::max(openblas_get_num_threads(), 1) + thread_budget() - 1);
 }
 
 }  // namespace freeform

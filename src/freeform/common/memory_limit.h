@@ -31,7 +31,8 @@ void require_memory(std::size_t bytes, const Describe& describe) {
 std::string out_of_memory_message();
 
 // Address space OpenBLAS reserves for its work buffers when the first LAPACK/BLAS call of a
-// thread needs one: 128 MB per thread in Debian's build (0 when the BLAS is not OpenBLAS).
+// thread needs one: 128 MB per thread in Debian's build, for its own threads and the pool's
+// (0 when the BLAS is not OpenBLAS).
 std::size_t blas_buffer_bytes();
 
 }  // namespace freeform

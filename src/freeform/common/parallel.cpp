@@ -203,6 +203,19 @@ int blas_threads() {
 
 namespace {
 thread_local double helpers_cpu = 0;
+
+void set_blas_threads(int n) {
+  static void* const f = dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
+  if (f && n > 0) reinterpret_cast<void (*)(int)>(f)(n);
+}
+}  // namespace
+
+BlasThreads::BlasThreads(int n) : saved_(blas_threads()) {
+  if (saved_ > 0 && n != saved_) set_blas_threads(std::clamp(n, 1, thread_budget()));
+}
+
+BlasThreads::~BlasThreads() {
+  if (saved_ > 0 && blas_threads() != saved_) set_blas_threads(saved_);
 }
 
 double helper_cpu_ms() { return helpers_cpu; }

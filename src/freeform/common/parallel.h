@@ -45,6 +45,20 @@ int thread_budget();
 // OpenBLAS's thread count (0 if the BLAS is not OpenBLAS).
 int blas_threads();
 
+// OpenBLAS's thread count set to n (at most thread_budget()) for a scope, then restored: 1 where
+// several threads call the BLAS at once. No effect if the BLAS is not OpenBLAS. Raising it above
+// the count OpenBLAS started with starts threads that need work buffers of their own.
+class BlasThreads {
+ public:
+  explicit BlasThreads(int n);
+  ~BlasThreads();
+  BlasThreads(const BlasThreads&) = delete;
+  BlasThreads& operator=(const BlasThreads&) = delete;
+
+ private:
+  int saved_;
+};
+
 // Runs task(0) .. task(n - 1), each once, on up to thread_budget() threads (the caller is one of
 // them): coarse tasks of seconds, such as ordering the parts of a graph. Unlike parallel_for it
 // starts its own threads, so a long task never holds the per-frame pool. The first exception

@@ -15,6 +15,7 @@
 #include <Eigen/SparseLU>
 #if FREEFORM_HAVE_SUITESPARSE
 #include "freeform/numerics/cholmod_view.h"
+#include "freeform/numerics/supernodal_factorization.h"
 #include "freeform/numerics/supernodal_analysis.h"
 
 #include <Eigen/CholmodSupport>
@@ -106,9 +107,10 @@ struct Cholmod : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
     this->m_factorizationIsOk = false;
   }
   // factorize() with the permuted copy of the matrix made on all cores (numerics/permuted_lower.h)
-  // instead of by CHOLMOD on one thread; the same numeric factorization, the same bits. On one
-  // thread CHOLMOD's own copy is as fast (docs/benchmarks.md).
-  void factorize_permuted(const SpMat& lower) {
+  // instead of by CHOLMOD on one thread, and (FactorKernel::Auto) the numeric factorization's
+  // subtrees on all cores too, with `schedule` made for the factor's tree. On one thread this
+  // is CHOLMOD's factorize(): its own copy is as fast (docs/benchmarks.md).
+  void factorize_permuted(const SpMat& lower, FactorKernel kernel, std::optional<SupernodalSolve>& schedule) {
     cholmod_factor* l = this->m_cholmodFactor;
     if (thread_budget() < 2 || !l->is_super || l->itype != CHOLMOD_INT || !lower.isCompressed())
       return this->factorize(lower);
@@ -129,6 +131,17 @@ struct Cholmod : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
       double* x = static_cast<double*>(l->x);
       parallel_for(static_cast<std::ptrdiff_t>(l->xsize), std::ptrdiff_t{1} << 18,
                    [x](std::ptrdiff_t begin, std::ptrdiff_t end) { std::fill(x + begin, x + end, 0.0); });
+    }
+    if (kernel == FactorKernel::Auto && l->is_ll) {
+      schedule.emplace(*supernodal());
+      if (schedule->ok()) {
+        l->minor = static_cast<std::size_t>(
+            supernodal_factorize(*supernodal(), static_cast<double*>(l->x), *schedule, p, this->m_shiftOffset[0]));
+        this->m_info = l->minor == l->n ? Eigen::Success : Eigen::NumericalIssue;
+        this->m_factorizationIsOk = true;
+        return;
+      }
+      schedule.reset();
     }
     cholmod_sparse s = cholmod_lower_view(static_cast<std::size_t>(lower.rows()), p.inner.size(), p.outer.data(),
                                           p.inner.data(), p.value.data());
@@ -277,6 +290,7 @@ struct SparseSolver::Impl {
 #endif
   std::string failure;  // why the preferred solver failed (for the message)
   std::optional<SupernodalSolve> schedule;  // CHOLMOD's factor solved on several cores
+  FactorKernel factor_kernel = FactorKernel::Auto;
 
   Eigen::VectorXd times(const Eigen::VectorXd& x) const {
     if (lower) return a.selfadjointView<Eigen::Lower>() * x;
@@ -321,13 +335,13 @@ struct SparseSolver::Impl {
         const auto factorizing = [&] { return "factorizing a " + std::to_string(a.rows()) + "-row system"; };
         require_memory(factorization_bytes(s->cholmod().lnz, a), factorizing);
         const SerialOpenMp serial_teams;  // CHOLMOD's 4-thread teams per supernode (serial_openmp.h)
-        s->factorize_permuted(a);
+        s->factorize_permuted(a, factor_kernel, schedule);
         if (s->cholmod().status == CHOLMOD_OUT_OF_MEMORY)
           throw OutOfMemory("out of memory while " + factorizing());
         if (s->info() != Eigen::Success || s->cholmod().status < CHOLMOD_OK)
           return "the matrix is singular or not positive definite";
         blas_buffers_reserved = true;
-        if (const auto view = s->supernodal()) schedule.emplace(*view);
+        if (const auto view = s->supernodal(); view && !schedule) schedule.emplace(*view);
         return {};
       }
       case SolverKind::Umfpack: {
@@ -377,9 +391,11 @@ bool CholeskyAnalysis::ok() const {
 #endif
 }
 
-SparseSolver::SparseSolver(SpMat&& matrix, bool symmetric, SolverKind kind, CholeskyAnalysis* analysis)
+SparseSolver::SparseSolver(SpMat&& matrix, bool symmetric, SolverKind kind, CholeskyAnalysis* analysis,
+                           FactorKernel factor_kernel)
     : impl_(std::make_unique<Impl>()) {
   impl_->a.swap(matrix);
+  impl_->factor_kernel = factor_kernel;
 #if FREEFORM_HAVE_SUITESPARSE
   if (analysis && analysis->impl_) {
     impl_->ahead = std::move(analysis->impl_->solver);

@@ -36,6 +36,10 @@ class CholeskyAnalysis {
 // its layout allows; Baseline, the same without the AVX2 kernels; Cholmod, CHOLMOD's own solve,
 // one supernode after the other. The last two are for tests and benchmarks.
 enum class SolveKernel { Auto, Baseline, Cholmod };
+// How a CHOLMOD factor's values are computed: Auto, its subtrees on several cores
+// (supernodal_factorization.h) where more than one thread is allowed; Cholmod, CHOLMOD's own
+// numeric factorization (for tests and benchmarks).
+enum class FactorKernel { Auto, Cholmod };
 
 class SparseSolver {
  public:
@@ -50,7 +54,7 @@ class SparseSolver {
   // no move constructor, so a by-value A would be copied (443 MB twice at 1M free, k = 3).
   // `analysis` (optional) is consumed: its CHOLMOD object becomes this solver's if A matches.
   SparseSolver(Eigen::SparseMatrix<double>&& a, bool symmetric, SolverKind kind = SolverKind::Auto,
-               CholeskyAnalysis* analysis = nullptr);
+               CholeskyAnalysis* analysis = nullptr, FactorKernel factor_kernel = FactorKernel::Auto);
   ~SparseSolver();
   SparseSolver(SparseSolver&&) noexcept;
   SparseSolver& operator=(SparseSolver&&) noexcept;

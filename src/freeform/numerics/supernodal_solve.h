@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include <atomic>
+#include <cstddef>
 #include <optional>
 #include <vector>
 
@@ -36,11 +37,19 @@ struct SupernodalFactor {
 
 class SupernodalSolve {
  public:
+  struct Subtree {
+    int first = 0, last = 0;  // supernodes [first, last]; last is the root
+    int col_end = 0;  // one past the last column
+    int max_rows = 0;  // largest supernode's row count
+  };
+
   // The schedule for `factor`'s tree; ok() is false where the layout is not the one above
   // (unsorted rows, subtrees not numbered contiguously), and the caller then solves otherwise.
   explicit SupernodalSolve(const SupernodalFactor& factor);
   bool ok() const { return ok_; }
   int subtrees() const { return static_cast<int>(subtrees_.size()); }
+  const Subtree& subtree(int i) const { return subtrees_[static_cast<std::size_t>(i)]; }  // largest first
+  const std::vector<int>& top_supernodes() const { return top_; }  // above every subtree, ascending
   // The factor's share that one thread solves alone: the supernodes above the subtrees, of the
   // large ones the triangles of their panels.
   double serial_share() const { return serial_share_; }
@@ -52,11 +61,6 @@ class SupernodalSolve {
                                        bool wide_kernels = true) const;
 
  private:
-  struct Subtree {
-    int first = 0, last = 0;  // supernodes [first, last]; last is the root
-    int col_end = 0;  // one past the last column
-    int max_rows = 0;  // largest supernode's row count
-  };
   void forward_subtree(const SupernodalFactor& f, const Subtree& t, const detail::SupernodalSweep& w, double* work,
                        double* above, std::atomic<bool>& missing) const;
   void backward_subtree(const SupernodalFactor& f, const Subtree& t, const detail::SupernodalSweep& w,
