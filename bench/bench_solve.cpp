@@ -3,8 +3,8 @@
 // the same factor of the BCM system of bench_scale's support (a libcgal-demo mesh subdivided S
 // times, the first N free vertices breadth-first from vertex 0), alternating the two solves so
 // that both see the same machine. Per column count: each solve's median and fastest wall time.
-// The factorization too: ours (numerics/supernodal_factorization.h) against CHOLMOD's numeric
-// factorization, alternating, and how far apart the two factors' solves are.
+// The numeric factorization too: ours (numerics/supernodal_factorization.h) against CHOLMOD's,
+// alternating after the same analysis, and the two factors' solves (backward errors, difference).
 // Args: mesh_name subdivisions free_in_thousands k [repeats]. JSON on stdout.
 #include "bench_meshes.h"
 
@@ -35,26 +35,29 @@ int main(int argc, char** argv) {
   BcmSettings settings;
   settings.order = std::stoi(argv[4]);
   BcmSystem sys = assemble_bcm_system(mesh, mesh.positions(), regions, settings, false);
-  // The factorization (ordering included) with ours and CHOLMOD's numeric factorization, alternating.
+  // The numeric factorization (after the same analysis, made apart) with ours and CHOLMOD's,
+  // alternating, and the backward error of a solve with each factor.
   std::vector<double> ours_ms, cholmod_ms;
   std::mt19937 rng(43);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Eigen::MatrixXd probe(sys.a_pp.rows(), 3);
   for (Eigen::Index i = 0; i < probe.size(); ++i) probe.data()[i] = u(rng);
-  double factor_difference = 0.0;
-  for (int r = 0; r < repeats; ++r) {
+  const Eigen::SparseMatrix<double> lower = sys.a_pp.triangularView<Eigen::Lower>();
+  double factor_difference = 0.0, ours_residual = 0.0, cholmod_residual = 0.0;
+  const auto factor = [&](FactorKernel kernel, std::vector<double>& ms, double& residual) {
+    CholeskyAnalysis analysis(lower);
     Eigen::SparseMatrix<double> copy = sys.a_pp;
-    const PhaseClock c;
-    const SparseSolver reference(std::move(copy), true, SolverKind::Auto, nullptr, FactorKernel::Cholmod);
-    cholmod_ms.push_back(c.elapsed().wall_ms);
-    copy = sys.a_pp;
-    const PhaseClock o;
-    const SparseSolver subtrees(std::move(copy), true);
-    ours_ms.push_back(o.elapsed().wall_ms);
-    const Eigen::MatrixXd y = reference.solve(probe, false, SolveKernel::Cholmod);
-    factor_difference = std::max(
-        factor_difference, (subtrees.solve(probe, false, SolveKernel::Cholmod) - y).cwiseAbs().maxCoeff() /
-                               y.cwiseAbs().maxCoeff());
+    const PhaseClock clock;
+    SparseSolver solver(std::move(copy), true, SolverKind::Auto, &analysis, kernel);
+    ms.push_back(clock.elapsed().wall_ms);
+    const Eigen::MatrixXd x = solver.solve(probe, false, SolveKernel::Cholmod);
+    residual = std::max(residual, solver.relative_residual(x, probe));
+    return x;
+  };
+  for (int r = 0; r < repeats; ++r) {
+    const Eigen::MatrixXd y = factor(FactorKernel::Cholmod, cholmod_ms, cholmod_residual);
+    const Eigen::MatrixXd x = factor(FactorKernel::Auto, ours_ms, ours_residual);
+    factor_difference = std::max(factor_difference, (x - y).cwiseAbs().maxCoeff() / y.cwiseAbs().maxCoeff());
   }
   const SparseSolver solver(std::move(sys.a_pp), true);
   nlohmann::json out = {
@@ -67,7 +70,8 @@ int main(int argc, char** argv) {
        {{"subtrees", {{"median", bench::median(ours_ms)}, {"min", *std::min_element(ours_ms.begin(), ours_ms.end())}}},
         {"cholmod",
          {{"median", bench::median(cholmod_ms)}, {"min", *std::min_element(cholmod_ms.begin(), cholmod_ms.end())}}},
-        {"max_relative_difference_of_a_solve", factor_difference}}}};
+        {"max_relative_difference_of_a_solve", factor_difference},
+        {"backward_error", {{"subtrees", ours_residual}, {"cholmod", cholmod_residual}}}}}};
   for (int m : {3, 7}) {
     Eigen::MatrixXd b(solver.rows(), m);
     for (Eigen::Index i = 0; i < b.size(); ++i) b.data()[i] = u(rng);
