@@ -25,9 +25,11 @@ namespace freeform {
 namespace {
 
 constexpr int kNone = -1;
-// The columns of a supernode above the subtrees that one thread updates: fixed, so that each
-// update is the same BLAS call on any number of threads.
-constexpr int kColumnBlock = 32;
+// A supernode above the subtrees is updated in blocks of columns, one thread each: at least
+// kColumnBlock columns (a BLAS call on fewer is slow), at most kColumnBlocks blocks. The blocks
+// depend on the supernode alone, so each update is the same BLAS call on any number of threads.
+constexpr int kColumnBlock = 64;
+constexpr int kColumnBlocks = 32;
 
 // Supernodes whose descendants still have rows to update them with: CHOLMOD's linked lists.
 // pos[d] is the position (in the row list) of d's first row not yet used for an update.
@@ -64,6 +66,7 @@ class Factorization {
   int nrow(int s) const { return f_.pi[s + 1] - f_.pi[s]; }
   double* block(int s) const { return x_ + f_.px[s]; }
   void prepare(int s, int* map) const;
+  void load(int s, int c0, int c1, const int* map) const;
   void update(int d, int s, int c0, int c1, const int* map, Scratch& w) const;
   int factor_block(int s) const;
   // d's next supernode to update after s, kNone when it has none; moves d's position past s.
@@ -80,14 +83,18 @@ class Factorization {
   int blas_threads_ = 1;  // OpenBLAS's own count when the factorization began
 };
 
-// map[row] = the row's position in s; the block zeroed, then A's columns of s scattered into it.
+// map[row] = the row's position in s.
 void Factorization::prepare(int s, int* map) const {
-  const int k1 = f_.super[s], nc = ncol(s), nr = nrow(s);
   const int* rows = f_.s_rows + f_.pi[s];
-  for (int i = 0; i < nr; ++i) map[rows[i]] = i;
+  for (int i = 0; i < nrow(s); ++i) map[rows[i]] = i;
+}
+
+// s's columns [c0, c1) zeroed, then A's entries in them scattered through map.
+void Factorization::load(int s, int c0, int c1, const int* map) const {
+  const int k1 = f_.super[s], nr = nrow(s);
   double* xs = block(s);
-  std::fill(xs, xs + static_cast<std::ptrdiff_t>(nr) * nc, 0.0);
-  for (int j = k1; j < k1 + nc; ++j) {
+  std::fill(xs + static_cast<std::ptrdiff_t>(c0) * nr, xs + static_cast<std::ptrdiff_t>(c1) * nr, 0.0);
+  for (int j = k1 + c0; j < k1 + c1; ++j) {
     double* col = xs + static_cast<std::ptrdiff_t>(j - k1) * nr;
     for (int t = a_.outer[static_cast<std::size_t>(j)]; t < a_.outer[static_cast<std::size_t>(j) + 1]; ++t) {
       const int i = a_.inner[static_cast<std::size_t>(t)];
@@ -158,6 +165,7 @@ int Factorization::subtree(const SupernodalSolve::Subtree& t, std::vector<std::p
   };
   for (int s = t.first; s <= t.last; ++s) {
     prepare(s, map.get());
+    load(s, 0, ncol(s), map.get());
     for (int d : links_.list(s)) update(d, s, 0, ncol(s), map.get(), w);
     for (int d : links_.list(s)) link(d, advance(d, s));
     if (const int bad = factor_block(s); bad != kNone) return bad;
@@ -172,11 +180,13 @@ int Factorization::top_supernode(int s, int* map) {
   prepare(s, map);
   const std::vector<int> ds = links_.list(s);
   const int nc = ncol(s);
-  parallel_for((nc + kColumnBlock - 1) / kColumnBlock, 1, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+  const int width = std::max(kColumnBlock, (nc + kColumnBlocks - 1) / kColumnBlocks);
+  parallel_for((nc + width - 1) / width, 1, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
     Scratch w;
     for (auto b = lo; b < hi; ++b) {
-      const int c0 = static_cast<int>(b) * kColumnBlock;
-      for (int d : ds) update(d, s, c0, std::min(nc, c0 + kColumnBlock), map, w);
+      const int c0 = static_cast<int>(b) * width, c1 = std::min(nc, c0 + width);
+      load(s, c0, c1, map);
+      for (int d : ds) update(d, s, c0, c1, map, w);
     }
   });
   for (int d : ds)
