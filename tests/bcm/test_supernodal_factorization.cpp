@@ -5,6 +5,7 @@
 #include "bcm_fixtures.h"
 
 #include "freeform/common/error.h"
+#include "freeform/common/held_threads.h"
 #include "freeform/common/parallel.h"
 #include "freeform/numerics/sparse_solver.h"
 
@@ -53,6 +54,25 @@ TEST(SupernodalFactorization, GivesTheSameBitsOnEveryRun) {
     copy = sys.a;
     EXPECT_EQ(SparseSolver(std::move(copy), true).solve(b, true, SolveKernel::Cholmod), want) << "run " << run;
   }
+}
+
+// Beside a thread that long work holds (the ordering ahead) only the threads left are used: on 2
+// cores that is one, and the factor is CHOLMOD's own, bit for bit.
+TEST(SupernodalFactorization, LeavesTheCoresThatOtherWorkHolds) {
+  const int budget = thread_budget();
+  {
+    const HeldThread held;
+    EXPECT_EQ(threads_free(), std::max(1, budget - 1));
+    if (budget == 2) {
+      PlaneSystem sys(60, 2);
+      const Eigen::MatrixXd b = random_rhs(sys.a.rows(), 2, 9);
+      Eigen::SparseMatrix<double> copy = sys.a;
+      const SparseSolver beside(std::move(copy), true);
+      const SparseSolver cholmod(std::move(sys.a), true, SolverKind::Auto, nullptr, FactorKernel::Cholmod);
+      EXPECT_EQ(beside.solve(b, true, SolveKernel::Cholmod), cholmod.solve(b, true, SolveKernel::Cholmod));
+    }
+  }
+  EXPECT_EQ(threads_free(), budget);
 }
 
 TEST(SupernodalFactorization, RefusesAMatrixThatIsNotPositiveDefinite) {

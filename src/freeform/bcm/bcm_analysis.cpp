@@ -1,5 +1,6 @@
 #include "freeform/bcm/bcm_analysis.h"
 
+#include "freeform/common/held_threads.h"
 #include "freeform/common/parallel.h"
 #include "freeform/common/phase_clock.h"
 #include "freeform/mesh/traversal.h"
@@ -7,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <exception>
+#include <optional>
 #include <system_error>
 #include <thread>
 #include <vector>
@@ -80,6 +82,7 @@ BcmAnalysis::BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSett
   future_ = shared_->result.get_future();
   try {
     std::thread([&mesh, &regions, k = settings.order, shared = shared_, hook = std::move(before_ordering)] {
+      std::optional<HeldThread> held(std::in_place);  // released before the result is handed over
       const auto t = std::chrono::steady_clock::now();
       const double cpu0 = PhaseClock::thread_cpu_ms() + helper_cpu_ms();
       Eigen::SparseMatrix<double> lower = [&] {
@@ -101,6 +104,7 @@ BcmAnalysis::BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSett
       Eigen::SparseMatrix<double>().swap(lower);  // before the result: the caller's peak follows
       shared->ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
       shared->cpu_ms = PhaseClock::thread_cpu_ms() + helper_cpu_ms() - cpu0;
+      held.reset();
       shared->result.set_value(std::move(out));
     }).detach();
   } catch (const std::system_error&) {  // no thread to be had: the solver analyzes A itself

@@ -4,6 +4,7 @@
 
 #include "freeform/common/error.h"
 #include "freeform/common/memory_limit.h"
+#include "freeform/common/held_threads.h"
 #include "freeform/common/huge_pages.h"
 #include "freeform/common/parallel.h"
 #include "freeform/common/serial_openmp.h"
@@ -108,8 +109,9 @@ struct Cholmod : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
   }
   // factorize() with the permuted copy of the matrix made on all cores (numerics/permuted_lower.h)
   // instead of by CHOLMOD on one thread, and (FactorKernel::Auto) the numeric factorization's
-  // subtrees on all cores too, with `schedule` made for the factor's tree. On one thread this
-  // is CHOLMOD's factorize(): its own copy is as fast (docs/benchmarks.md).
+  // subtrees on all cores too, with `schedule` made for the factor's tree, where two threads are
+  // free (on 2 cores beside the ordering ahead one is: CHOLMOD's then). On one thread this is
+  // CHOLMOD's factorize(): its own copy is as fast (docs/benchmarks.md).
   void factorize_permuted(const SpMat& lower, FactorKernel kernel, std::optional<SupernodalSolve>& schedule) {
     cholmod_factor* l = this->m_cholmodFactor;
     if (thread_budget() < 2 || !l->is_super || l->itype != CHOLMOD_INT || !lower.isCompressed())
@@ -132,7 +134,7 @@ struct Cholmod : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
       parallel_for(static_cast<std::ptrdiff_t>(l->xsize), std::ptrdiff_t{1} << 18,
                    [x](std::ptrdiff_t begin, std::ptrdiff_t end) { std::fill(x + begin, x + end, 0.0); });
     }
-    if (kernel == FactorKernel::Auto && l->is_ll) {
+    if (kernel == FactorKernel::Auto && l->is_ll && threads_free() >= 2) {
       schedule.emplace(*supernodal());
       if (schedule->ok()) {
         l->minor = static_cast<std::size_t>(
