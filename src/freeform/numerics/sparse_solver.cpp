@@ -3,9 +3,9 @@
 #include "freeform/numerics/sparse_solver.h"
 
 #include "freeform/common/error.h"
-#include "freeform/common/memory_limit.h"
 #include "freeform/common/held_threads.h"
 #include "freeform/common/huge_pages.h"
+#include "freeform/common/memory_limit.h"
 #include "freeform/common/parallel.h"
 #include "freeform/common/serial_openmp.h"
 #include "freeform/numerics/nested_dissection.h"
@@ -16,8 +16,8 @@
 #include <Eigen/SparseLU>
 #if FREEFORM_HAVE_SUITESPARSE
 #include "freeform/numerics/cholmod_view.h"
-#include "freeform/numerics/supernodal_factorization.h"
 #include "freeform/numerics/supernodal_analysis.h"
+#include "freeform/numerics/supernodal_factorization.h"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/UmfPackSupport>

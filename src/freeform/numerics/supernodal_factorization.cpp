@@ -147,7 +147,8 @@ int Factorization::advance(int d, int s) {
   const int* rows = f_.s_rows;
   const int end = f_.pi[d + 1];
   int& pos = links_.pos[static_cast<std::size_t>(d)];
-  pos = static_cast<int>(std::lower_bound(rows + std::max(pos, f_.pi[d] + ncol(d)), rows + end, f_.super[s + 1]) - rows);
+  pos =
+      static_cast<int>(std::lower_bound(rows + std::max(pos, f_.pi[d] + ncol(d)), rows + end, f_.super[s + 1]) - rows);
   return pos < end ? col_super_[static_cast<std::size_t>(rows[pos])] : kNone;
 }
 

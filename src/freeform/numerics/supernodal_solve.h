@@ -39,8 +39,8 @@ class SupernodalSolve {
  public:
   struct Subtree {
     int first = 0, last = 0;  // supernodes [first, last]; last is the root
-    int col_end = 0;  // one past the last column
-    int max_rows = 0;  // largest supernode's row count
+    int col_end = 0;          // one past the last column
+    int max_rows = 0;         // largest supernode's row count
   };
 
   // The schedule for `factor`'s tree; ok() is false where the layout is not the one above
