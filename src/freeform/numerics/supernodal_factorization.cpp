@@ -167,8 +167,9 @@ int Factorization::subtree(const SupernodalSolve::Subtree& t, std::vector<std::p
   for (int s = t.first; s <= t.last; ++s) {
     prepare(s, map.get());
     load(s, 0, ncol(s), map.get());
-    for (int d : links_.list(s)) update(d, s, 0, ncol(s), map.get(), w);
-    for (int d : links_.list(s)) link(d, advance(d, s));
+    const std::vector<int> ds = links_.list(s);
+    for (int d : ds) update(d, s, 0, ncol(s), map.get(), w);
+    for (int d : ds) link(d, advance(d, s));
     if (const int bad = factor_block(s); bad != kNone) return bad;
     link(s, advance(s, s));
   }
