@@ -1,7 +1,7 @@
-// Threads that long work holds beside the caller's (the ordering ahead, bcm/bcm_analysis.h), so
-// that work which could use every core starts with the ones left instead (issue 43: the pool,
-// the BLAS and the ordering never run more threads than cores). On 2 cores the factorization
-// beside the ordering then stays on one thread, as the ordering is the longer of the two.
+// Threads that long work holds beside the caller's (the ordering ahead, bcm/bcm_analysis.h).
+// Work that could use every core asks threads_free() first (issue 43): the numeric
+// factorization runs its subtrees on the pool only where two threads are left, so on 2 cores
+// beside the ordering, the longer of the two, it stays CHOLMOD's on the core the ordering leaves.
 #pragma once
 
 namespace freeform {
