@@ -37,8 +37,8 @@ class CholeskyAnalysis {
 // one supernode after the other. The last two are for tests and benchmarks.
 enum class SolveKernel { Auto, Baseline, Cholmod };
 // How a CHOLMOD factor's values are computed: Auto, its subtrees on several cores
-// (supernodal_factorization.h) where more than one thread is allowed; Cholmod, CHOLMOD's own
-// numeric factorization (for tests and benchmarks).
+// (supernodal_factorization.h) where two threads are free (common/held_threads.h), else
+// CHOLMOD's; Cholmod, always CHOLMOD's own numeric factorization (for tests and benchmarks).
 enum class FactorKernel { Auto, Cholmod };
 
 class SparseSolver {

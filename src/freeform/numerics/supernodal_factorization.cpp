@@ -177,7 +177,7 @@ int Factorization::subtree(const SupernodalSolve::Subtree& t, std::vector<std::p
 }
 
 // A supernode above the subtrees: its columns' updates in fixed blocks on the pool (each
-// column's in list order), potrf and trsm with the BLAS on all cores.
+// column's in list order), potrf and trsm with OpenBLAS's own threads.
 int Factorization::top_supernode(int s, int* map) {
   prepare(s, map);
   const std::vector<int> ds = links_.list(s);
