@@ -64,5 +64,58 @@ TEST(FaceFans, CovarianceOfARigidMotionIsTheRotationTimesAnEdgeTensor) {
   }
 }
 
+// The membrane's one-sided target (FaceFans::target_scale): a compressed edge is pushed out
+// beyond its rest length, a stretched one pulled back, but not all the way, and never further
+// than a bounded scale; continuous at 1, where it is exactly 1.
+TEST(FaceFans, OneSidedTargetPushesCompressedEdgesOutAndKeepsPartOfAStretch) {
+  EXPECT_EQ(FaceFans::target_scale(1.0), 1.0);
+  double last = FaceFans::target_scale(0.2);
+  for (double stretch = 0.2; stretch < 1.0; stretch += 0.05) {
+    const double s = FaceFans::target_scale(stretch);
+    EXPECT_GT(s, 1.0) << stretch;
+    EXPECT_LE(s, last) << stretch;  // the more compressed, the further out
+    last = s;
+  }
+  EXPECT_NEAR(FaceFans::target_scale(1.0 - 1e-9), 1.0, 1e-8);
+  for (double stretch = 1.05; stretch < 4.0; stretch += 0.05) {
+    const double s = FaceFans::target_scale(stretch);
+    EXPECT_GT(s, 1.0) << stretch;
+    EXPECT_LT(s, stretch) << stretch;
+    EXPECT_GE(s, FaceFans::target_scale(stretch - 0.05)) << stretch;
+  }
+  EXPECT_EQ(FaceFans::target_scale(100.0), FaceFans::target_scale(1000.0));
+}
+
+// Rigid motions and the rest give the plain right-hand side (every edge's stretch is exactly 1
+// at rest), and a uniform shrink by c with identity rotations gives that of the common scale
+// target_scale(c): (target_scale(c) - 1) times the rest Laplacian coordinates.
+TEST(FaceFans, OneSidedRightHandSideAtRestRigidAndUniformlyShrunk) {
+  const Fans f = sphere_fans();
+  const int n = f.mesh.n_vertices();
+  const auto uniform = [n](const Eigen::Matrix3d& m) {
+    return std::vector<Eigen::Matrix3d>(static_cast<std::size_t>(n), m);
+  };
+  const Eigen::Matrix3d rot = Eigen::AngleAxisd(1.1, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  std::vector<double> rigid(f.rest.size()), shrunk(f.rest.size());
+  const double c = 0.8;
+  for (std::size_t i = 0; i < f.rest.size(); i += 3) {
+    const Vec3 r(f.rest[i], f.rest[i + 1], f.rest[i + 2]);
+    const Vec3 y = rot * r + Vec3(5.0, -3.0, 2.0);
+    for (int k = 0; k < 3; ++k) {
+      rigid[i + static_cast<std::size_t>(k)] = y(k);
+      shrunk[i + static_cast<std::size_t>(k)] = c * r(k);
+    }
+  }
+  const auto zero = uniform(Eigen::Matrix3d::Zero()), turned = uniform(rot - Eigen::Matrix3d::Identity());
+  const auto scaled = uniform((FaceFans::target_scale(c) - 1.0) * Eigen::Matrix3d::Identity());
+  for (int i = 0; i < n; ++i) {
+    EXPECT_EQ(f.fans->rotated(i, f.rest.data(), zero, f.rest.data()), Vec3::Zero()) << i;
+    const Vec3 plain = f.fans->rotated(i, f.rest.data(), turned);
+    EXPECT_LT((f.fans->rotated(i, f.rest.data(), turned, rigid.data()) - plain).norm(), 1e-12 * plain.norm()) << i;
+    const Vec3 expected = f.fans->rotated(i, f.rest.data(), scaled);
+    EXPECT_LT((f.fans->rotated(i, f.rest.data(), zero, shrunk.data()) - expected).norm(), 1e-12 * expected.norm()) << i;
+  }
+}
+
 }  // namespace
 }  // namespace freeform

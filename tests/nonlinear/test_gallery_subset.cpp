@@ -70,7 +70,7 @@ TEST(GallerySubset, ElephantLimbsAgainstArap) {
   const std::vector<Shape> cases = elephant_cases();
   if (cases.empty()) GTEST_SKIP() << "libcgal-demo meshes not found";
   ASSERT_EQ(cases.size(), 8u);
-  int peer_folds = 0, peer_collapsed = 0, folds[2] = {0, 0}, collapsed_k3 = 0, capped = 0;
+  int peer_folds = 0, peer_collapsed = 0, folds[2] = {0, 0}, collapsed[2] = {0, 0}, capped = 0;
   for (const Shape& base : cases) {
     const std::optional<PeerResult> arap = cgal_deform(base, 1000);
     ASSERT_TRUE(arap.has_value()) << base.name;
@@ -81,11 +81,11 @@ TEST(GallerySubset, ElephantLimbsAgainstArap) {
       const NonlinearRun run = run_nonlinear(base, k);
       const Quality& q = run.quality;
       folds[k - 2] += q.folds;
-      if (k == 3) collapsed_k3 += q.collapsed;
+      collapsed[k - 2] += q.collapsed;
       std::printf("%-28s k=%d folds %3d (ARAP %3d) collapsed %3d (ARAP %3d) iterations %d\n", base.name.c_str(), k,
                   q.folds, peer.folds, q.collapsed, peer.collapsed, run.iterations);
-      // Measured 2026-12-02 (the spokes-and-rims membrane): all converge; folds never more than
-      // ARAP's; collapsed faces up to 23 against ARAP's 6 (the goal: ARAP's + 2).
+      // Measured 2026-12-05 (the one-sided membrane): all converge; folds never more than
+      // ARAP's; collapsed faces up to 13 against ARAP's 6 (the goal: ARAP's + 2).
       capped += !run.converged;
       EXPECT_LE(q.folds, peer.folds + 6) << base.name << " k = " << k;
       EXPECT_LE(q.collapsed, 4 * peer.collapsed + 12) << base.name << " k = " << k;
@@ -95,9 +95,12 @@ TEST(GallerySubset, ElephantLimbsAgainstArap) {
   // docs/nonlinear.md, "Gallery").
   EXPECT_LE(folds[0], peer_folds + 2);
   EXPECT_LE(folds[1], peer_folds + 2);
-  // Collapsed faces at k = 3: at most 1.4 times ARAP's + 2 in total, a guard of the k = 3 membrane
-  // of 2026-12-04 (the membrane before it fails it). The goal, at most ARAP's, is not met.
-  EXPECT_LE(collapsed_k3, 1.4 * peer_collapsed + 2);
+  // Collapsed faces: at most 1.2 times ARAP's + 2 in total at each order, a guard of the
+  // one-sided membrane (docs/nonlinear.md, "What the gallery found", 21). Measured 56 and 51
+  // against ARAP's 49; with the two-sided membrane before it, 65 and 64 (it fails this). The
+  // goal, at most ARAP's, is met over the whole gallery but not on these eight.
+  EXPECT_LE(collapsed[0], 1.2 * peer_collapsed + 2);
+  EXPECT_LE(collapsed[1], 1.2 * peer_collapsed + 2);
   EXPECT_LE(capped, 1);
 }
 

