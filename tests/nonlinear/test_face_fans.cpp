@@ -66,7 +66,7 @@ TEST(FaceFans, CovarianceOfARigidMotionIsTheRotationTimesAnEdgeTensor) {
 
 // The membrane's one-sided target (FaceFans::target_scale): a compressed edge is pushed out
 // beyond its rest length, a stretched one pulled back, but not all the way, and never further
-// than a bounded scale; continuous at 1, where it is exactly 1.
+// than a bounded scale, however compressed or stretched; continuous at 1, where it is exactly 1.
 TEST(FaceFans, OneSidedTargetPushesCompressedEdgesOutAndKeepsPartOfAStretch) {
   EXPECT_EQ(FaceFans::target_scale(1.0), 1.0);
   double last = FaceFans::target_scale(0.2);
@@ -84,6 +84,7 @@ TEST(FaceFans, OneSidedTargetPushesCompressedEdgesOutAndKeepsPartOfAStretch) {
     EXPECT_GE(s, FaceFans::target_scale(stretch - 0.05)) << stretch;
   }
   EXPECT_EQ(FaceFans::target_scale(100.0), FaceFans::target_scale(1000.0));
+  EXPECT_EQ(FaceFans::target_scale(-3.0), FaceFans::target_scale(0.0));  // turned against its target
 }
 
 // Rigid motions and the rest give the plain right-hand side (every edge's stretch is exactly 1

@@ -86,8 +86,11 @@ Eigen::Matrix3d FaceFans::covariance(int i, const double* x) const {
 }
 
 double FaceFans::target_scale(double stretch) {
+  // An edge turned against its target (a cold start's first step under a large rotation)
+  // counts as fully compressed, not more.
+  stretch = std::clamp(stretch, 0.0, kMaxStretch);
   if (stretch < 1.0) return 1.0 + kCompressionGain * (1.0 - stretch);
-  return 1.0 + kStretchShare * (std::min(stretch, kMaxStretch) - 1.0);
+  return 1.0 + kStretchShare * (stretch - 1.0);
 }
 
 Eigen::Vector3d FaceFans::rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& rot,

@@ -43,8 +43,8 @@ class FaceFans {
 
   // The membrane target's scale for an edge stretched by `stretch` along its target (the
   // projection that minimizes |e - s M r|, 1 for an unchanged edge): a compressed edge is
-  // pushed out beyond its rest length, a stretched one is pulled back only halfway, up to a
-  // limit (docs/nonlinear.md, "What the gallery found", 21).
+  // pushed out beyond its rest length, a stretched one is pulled back only halfway; both
+  // bounded (docs/nonlinear.md, "What the gallery found", 21).
   static double target_scale(double stretch);
 
  private:
