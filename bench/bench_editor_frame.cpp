@@ -71,7 +71,7 @@ double reference_compute_ms(long iterations) {
   return ms_since(t);
 }
 
-nlohmann::json run(const std::string& name, int frames, int width, int height, int samples, bool nonlinear) {
+nlohmann::json run(const std::string& name, int frames, int width, int height, int samples, bool nonlinear, int order) {
   const auto path = bench::mesh_dir() / name;
   Mesh mesh = Mesh::from_soup(bench::subdivide_midpoint(read_mesh(path.string()).soup));
   const int n_free = 35000, n_handle = 700;
@@ -84,9 +84,10 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
   doc.open_mesh(std::move(mesh), path.string());
   doc.set_region(editor::PaintMode::Support, support, false);
   doc.set_region(editor::PaintMode::Handle, handle, false);
-  if (nonlinear) {
+  if (nonlinear || order != 3) {
     editor::EditParameters p = doc.parameters();
-    p.deformation = Deformation::Nonlinear;
+    if (nonlinear) p.deformation = Deformation::Nonlinear;
+    p.settings.order = order;
     doc.set_parameters(p);
   }
   const auto t_pre = Clock::now();
@@ -237,18 +238,22 @@ nlohmann::json run(const std::string& name, int frames, int width, int height, i
 }  // namespace
 
 int main(int argc, char** argv) {
-  // bench_editor_frame [frames] [nonlinear] [busy]: `nonlinear` runs the nonlinear model on a
-  // rotating drag; `busy` keeps one core busy meanwhile with a spinning child process (a user's
-  // machine is never idle; forked before any thread exists). Restarts as the editor does.
+  // bench_editor_frame [frames] [nonlinear] [busy] [k1|k2|k3]: `nonlinear` runs the nonlinear
+  // model on a rotating drag; `busy` keeps one core busy meanwhile with a spinning child process
+  // (a user's machine is never idle; forked before any thread exists); k1-k3 the order (3, the
+  // editor's default, unless given). Restarts as the editor does.
   freeform::restart_with_huge_page_malloc(argv);
   const int frames = argc > 1 ? std::max(5, std::atoi(argv[1])) : 60;
   bool nonlinear = false, busy = false;
+  int order = 3;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "nonlinear") nonlinear = true;
     else if (a == "busy") busy = true;
+    else if (a == "k1" || a == "k2" || a == "k3")
+      order = a[1] - '0';
     else {
-      std::cerr << "bench_editor_frame: unknown argument '" << a << "' (expected nonlinear or busy)\n";
+      std::cerr << "bench_editor_frame: unknown argument '" << a << "' (expected nonlinear, busy, k1, k2 or k3)\n";
       return 2;
     }
   }
@@ -273,7 +278,7 @@ int main(int argc, char** argv) {
   try {
     nlohmann::json out = nlohmann::json::array();
     for (const char* name : {"armadillo.off", "bunny00.off"}) {
-      out.push_back(run(name, frames, 1280, 800, 4, nonlinear));
+      out.push_back(run(name, frames, 1280, 800, 4, nonlinear, order));
       out.back()["one_core_busy"] = busy;
     }
     stop_spinner();

@@ -41,10 +41,10 @@ constexpr int kMinSmoothingRings = 3, kMinBaseSmoothingRings = 2, kMaxSmoothingR
 // survey's bar, S-bent plane and capsule; a limb only a few rings across needs more of it.
 constexpr double kMembrane[] = {0.0, 0.0, 0.3, 0.03}, kMembranePower[] = {0.0, 0.0, 1.0, 1.5};
 constexpr double kMembraneFree = 500.0, kMaxMembrane = 0.6;
-// The membrane turns with its own 1-ring rotations (ARAP's) at k = 2, and at k = 3 up to this
-// many free vertices; beyond, with the bending term's smoothed field: on the editor benchmark's
-// 35k-vertex drags the 1-ring rotations took 57-75 iterations to settle instead of 28-36, and the
-// gallery's k = 3 counts were the same with this limit as without it.
+// The membrane turns with its own 1-ring rotations (ARAP's) up to this many free vertices;
+// beyond, with the bending term's smoothed field. On the editor benchmark's 35k-vertex drags the
+// 1-ring rotations took 57-75 iterations to settle instead of 28-36 at k = 3, and 38 and 186
+// instead of 19 and 24 at k = 2 (docs/nonlinear.md, "What the gallery found", 22).
 constexpr int kLocalMembraneMaxFree = 10000;
 // Above this many free vertices the volume term's response to the gradient at the iterate is
 // solved together with the step (one back-substitution of 6 columns instead of two of 3; the
@@ -441,7 +441,7 @@ void NonlinearSolver::add_membrane(double weight) {
   // Measured on the gallery (docs/nonlinear.md, 12): with the 1-ring rotations the membrane is
   // ARAP itself, and k = 3 collapses a third fewer faces than with the smoothed ones, as many folds
   // (with the spokes-only ARAP of before it folded twice as many).
-  d.local_membrane = d.sys->order == 2 || p <= kLocalMembraneMaxFree;
+  d.local_membrane = p <= kLocalMembraneMaxFree;
   if (d.local_membrane) {
     d.q_local.assign(static_cast<std::size_t>(p), Eigen::Quaterniond::Identity());
     d.rot_local.resize(static_cast<std::size_t>(p) + d.owner.size());  // the constrained ones: their own

@@ -61,8 +61,8 @@ struct NonlinearOptions {
   // shrinks as the support grows, like the fit's width). The order-k energy sees only the
   // Laplacian coordinates, which are nearly zero on smooth parts: it lets the inside of a bend or
   // a twisted limb compress freely. The membrane is ARAP's spokes-and-rims energy (face_fans.h);
-  // its edges turn with their own 1-ring rotations (ARAP's) at k = 2 and at k = 3 up to 10k free
-  // vertices, beyond with the smoothed ones. Costs one more factorization at the start. Measured
+  // its edges turn with their own 1-ring rotations (ARAP's) up to 10k free vertices, beyond with
+  // the smoothed ones. Costs one more factorization at the start. Measured
   // (docs/nonlinear.md, "Gallery"): fewer than half the collapsed faces of the model without it;
   // the whole-cactus bend and the k = 3 pulls are clean.
   double membrane = -1.0;
