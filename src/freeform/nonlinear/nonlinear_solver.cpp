@@ -37,10 +37,11 @@ constexpr int kMinSmoothingRings = 3, kMinBaseSmoothingRings = 2, kMaxSmoothingR
 // Automatic membrane weight (NonlinearOptions::membrane): kMembrane[k] (kMembraneFree / free) to the
 // power kMembranePower[k], one power more below kMembraneFree, at most kMaxMembrane, so that the
 // membrane's share shrinks as the support grows, like the fit's width. Chosen on the gallery
-// (docs/nonlinear.md, 12 to 14): heavier weights squeeze fewer faces but fold or cycle on the
-// survey's bar, S-bent plane and capsule; a limb only a few rings across needs more of it.
+// (docs/nonlinear.md, 12 to 14 and 24): heavier weights squeeze fewer faces but fold or cycle on
+// the survey's bar, S-bent plane and capsule; a limb only a few rings across needs more of it,
+// up to twice the bending term's weight.
 constexpr double kMembrane[] = {0.0, 0.0, 0.3, 0.03}, kMembranePower[] = {0.0, 0.0, 1.0, 1.5};
-constexpr double kMembraneFree = 500.0, kMaxMembrane = 0.6;
+constexpr double kMembraneFree = 500.0, kMaxMembrane = 2.0;
 // The membrane turns with its own 1-ring rotations (ARAP's) up to this many free vertices;
 // beyond, with the bending term's smoothed field. On the editor benchmark's 35k-vertex drags the
 // 1-ring rotations took 57-75 iterations to settle instead of 28-36 at k = 3, and 38 and 186

@@ -57,7 +57,7 @@ struct NonlinearOptions {
   bool preserve_volume = true;
   // Weight of a membrane term (ARAP's energy) added to the global step's k-harmonic one, relative
   // to the operator at the scale of a ring (0: none; -1: automatic, 0.3 (500 / free) at k = 2 and
-  // 0.03 (500 / free)^1.5 at k = 3, one power more below 500 free, at most 0.6: its share
+  // 0.03 (500 / free)^1.5 at k = 3, one power more below 500 free, at most 2: its share
   // shrinks as the support grows, like the fit's width). The order-k energy sees only the
   // Laplacian coordinates, which are nearly zero on smooth parts: it lets the inside of a bend or
   // a twisted limb compress freely. The membrane is ARAP's spokes-and-rims energy (face_fans.h);
