@@ -230,11 +230,12 @@ std::vector<Shape> gallery(const Options& o) {
     double radius;
     int subdivide;
   };
-  std::vector<Source> sources = {{"armadillo", 3, 0.18, 0}, {"bunny00", 2, 0.2, 0}, {"elephant", 3, 0.2, 0},
-                                 {"cactus", 2, 0.25, 1},    {"camel", 3, 0.2, 0},   {"cow", 3, 0.2, 0},
-                                 {"dino", 3, 0.18, 0},      {"hand", 3, 0.2, 0},    {"triceratops", 3, 0.18, 0},
-                                 {"man", 3, 0.18, 0},       {"elk", 3, 0.2, 0},     {"homer", 2, 0.2, 0},
-                                 {"armadillo", 2, 0.3, 1},  {"bunny00", 1, 0.35, 1}};  // large supports
+  std::vector<Source> sources = {{"armadillo", 3, 0.18, 0}, {"bunny00", 2, 0.2, 0},  {"elephant", 3, 0.2, 0},
+                                 {"cactus", 2, 0.25, 1},    {"camel", 3, 0.2, 0},    {"cow", 3, 0.2, 0},
+                                 {"dino", 3, 0.18, 0},      {"hand", 3, 0.2, 0},     {"triceratops", 3, 0.18, 0},
+                                 {"man", 3, 0.18, 0},       {"elk", 3, 0.2, 0},      {"homer", 2, 0.2, 0},
+                                 {"armadillo", 2, 0.3, 1},  {"bunny00", 1, 0.35, 1},  // large supports
+                                 {"armadillo", 1, 0.3, 2}};                           // ~40k free
   if (o.quick) sources.resize(4);
   std::mt19937 rng(o.seed);
   for (const Source& src : sources) {
