@@ -43,9 +43,9 @@ constexpr int kMinSmoothingRings = 3, kMinBaseSmoothingRings = 2, kMaxSmoothingR
 constexpr double kMembrane[] = {0.0, 0.0, 0.3, 0.03}, kMembranePower[] = {0.0, 0.0, 1.0, 1.5};
 constexpr double kMembraneFree = 500.0, kMaxMembrane = 2.0;
 // The membrane turns with its own 1-ring rotations (ARAP's) up to this many free vertices;
-// beyond, with the bending term's smoothed field. On the editor benchmark's 35k-vertex drags the
-// 1-ring rotations took 57-75 iterations to settle instead of 28-36 at k = 3, and 38 and 186
-// instead of 19 and 24 at k = 2 (docs/nonlinear.md, "What the gallery found", 22).
+// beyond, with the bending term's smoothed field: on large supports the 1-ring rotations made the
+// editor benchmark's drags settle far later, at k = 2 and 3 alike (docs/nonlinear.md, "What the
+// gallery found", 22).
 constexpr int kLocalMembraneMaxFree = 10000;
 // Above this many free vertices the volume term's response to the gradient at the iterate is
 // solved together with the step (one back-substitution of 6 columns instead of two of 3; the

@@ -35,9 +35,9 @@
 namespace freeform {
 
 struct NonlinearOptions {
-  // Per solve(); the report says when the cap stopped it. 500 lets all gallery runs but one edit's
-  // converge (200 stopped 24 of 515; docs/nonlinear.md, "What the gallery found", 13 and 25): a
-  // converged result depends on the edit alone, a capped one on the cap.
+  // Per solve(); the report says when the cap stopped it. 500 lets all gallery edits but one
+  // converge, where 200 stopped several (docs/nonlinear.md, "What the gallery found", 13 and
+  // 25): a converged result depends on the edit alone, a capped one on the cap.
   int max_iterations = 500;
   // Converged when no vertex moved more than this fraction of the support's extent (bounding
   // box diagonal) in the last iteration.
