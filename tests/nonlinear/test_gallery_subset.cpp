@@ -84,8 +84,8 @@ TEST(GallerySubset, ElephantLimbsAgainstArap) {
       collapsed[k - 2] += q.collapsed;
       std::printf("%-28s k=%d folds %3d (ARAP %3d) collapsed %3d (ARAP %3d) iterations %d\n", base.name.c_str(), k,
                   q.folds, peer.folds, q.collapsed, peer.collapsed, run.iterations);
-      // Measured 2026-12-05 (the one-sided membrane): all converge; folds never more than
-      // ARAP's; collapsed faces up to 13 against ARAP's 6 (the goal: ARAP's + 2).
+      // Measured 2026-12-05 (evening): all converge; folds never more than ARAP's; collapsed
+      // faces up to 14 against ARAP's 10 (the goal: ARAP's + 2).
       capped += !run.converged;
       EXPECT_LE(q.folds, peer.folds + 6) << base.name << " k = " << k;
       EXPECT_LE(q.collapsed, 4 * peer.collapsed + 12) << base.name << " k = " << k;
@@ -95,12 +95,11 @@ TEST(GallerySubset, ElephantLimbsAgainstArap) {
   // docs/nonlinear.md, "Gallery").
   EXPECT_LE(folds[0], peer_folds + 2);
   EXPECT_LE(folds[1], peer_folds + 2);
-  // Collapsed faces: at most 1.2 times ARAP's + 2 in total at each order, a guard of the
-  // one-sided membrane (docs/nonlinear.md, "What the gallery found", 21). Measured 56 and 51
-  // against ARAP's 49; with the two-sided membrane before it, 65 and 64 (it fails this). The
-  // goal, at most ARAP's, is met over the whole gallery but not on these eight.
-  EXPECT_LE(collapsed[0], 1.2 * peer_collapsed + 2);
-  EXPECT_LE(collapsed[1], 1.2 * peer_collapsed + 2);
+  // Collapsed faces: at most ARAP's + 4 in total at each order (docs/nonlinear.md, "What the
+  // gallery found", 21 and 24). Measured 48 and 49 against ARAP's 49; with the membrane's weight
+  // capped at 0.6 56 and 51, with the two-sided membrane 65 and 64 (both fail this at k = 2).
+  EXPECT_LE(collapsed[0], peer_collapsed + 4);
+  EXPECT_LE(collapsed[1], peer_collapsed + 4);
   EXPECT_LE(capped, 1);
 }
 
