@@ -87,14 +87,42 @@ TEST(FaceFans, OneSidedTargetPushesCompressedEdgesOutAndKeepsPartOfAStretch) {
   EXPECT_EQ(FaceFans::target_scale(-3.0), FaceFans::target_scale(0.0));  // turned against its target
 }
 
+// The large supports' target (full resistance to stretch, a smooth onset of the push): exactly 1
+// from the rest length on, its slope continuous where the onset ends and at 1 (a kink there
+// slowed convergence), and the default's line shifted by half the onset beyond it.
+TEST(FaceFans, SmoothOnsetIsContinuouslyDifferentiableAndResistsAllStretch) {
+  const OneSided smooth{0.5, 0.0, 0.1};
+  for (double stretch = 1.0; stretch < 3.0; stretch += 0.25) EXPECT_EQ(FaceFans::target_scale(stretch, smooth), 1.0);
+  const auto slope = [&](double s) {
+    const double h = 1e-6;
+    return (FaceFans::target_scale(s + h, smooth) - FaceFans::target_scale(s - h, smooth)) / (2.0 * h);
+  };
+  EXPECT_NEAR(slope(1.0 - 1e-5), 0.0, 1e-4);
+  EXPECT_NEAR(slope(0.9 + 1e-5), slope(0.9 - 1e-5), 1e-4);
+  EXPECT_NEAR(slope(0.5), -0.5, 1e-9);
+  for (double stretch = 0.0; stretch < 0.9; stretch += 0.1)
+    EXPECT_NEAR(FaceFans::target_scale(stretch, smooth), FaceFans::target_scale(stretch) - 0.025, 1e-12) << stretch;
+  double last = FaceFans::target_scale(0.0, smooth);
+  for (double stretch = 0.02; stretch < 1.0; stretch += 0.02) {
+    const double s = FaceFans::target_scale(stretch, smooth);
+    EXPECT_GT(s, 1.0) << stretch;
+    EXPECT_LT(s, last) << stretch;
+    last = s;
+  }
+}
+
 // Rigid motions and the rest give the plain right-hand side (every edge's stretch is exactly 1
 // at rest), and a uniform shrink by c with identity rotations gives that of the common scale
 // target_scale(c): (target_scale(c) - 1) times the rest Laplacian coordinates.
 TEST(FaceFans, OneSidedRightHandSideAtRestRigidAndUniformlyShrunk) {
   const Fans f = sphere_fans();
   const int n = f.mesh.n_vertices();
-  const auto uniform = [n](const Eigen::Matrix3d& m) {
-    return std::vector<Eigen::Matrix3d>(static_cast<std::size_t>(n), m);
+  // The faces' means (FaceFans::mean) of the same rot at every vertex.
+  const auto uniform = [&f, n](const Eigen::Matrix3d& m) {
+    const std::vector<Eigen::Matrix3d> rot(static_cast<std::size_t>(n), m);
+    std::vector<Eigen::Matrix3d> means;
+    for (int face = 0; face < f.fans->n_faces(); ++face) means.push_back(f.fans->mean(face, rot));
+    return means;
   };
   const Eigen::Matrix3d rot = Eigen::AngleAxisd(1.1, Vec3(1, 2, 3).normalized()).toRotationMatrix();
   std::vector<double> rigid(f.rest.size()), shrunk(f.rest.size());

@@ -19,7 +19,7 @@ constexpr double kFitFloor = 1e-3;
 // The one-sided membrane (target_scale). Chosen on the gallery (docs/nonlinear.md, 21): a
 // compression gain of 1 oscillates on small supports, where the membrane outweighs bending;
 // accepting all of the stretch lets stretched regions drift for hundreds of iterations.
-constexpr double kCompressionGain = 0.5, kStretchShare = 0.5, kMaxStretch = 1.5;
+constexpr double kMaxStretch = 1.5;
 double fit_weight(double cot) { return std::max(cot, 0.0) + kFitFloor; }
 
 }  // namespace
@@ -29,6 +29,7 @@ FaceFans::FaceFans(const Mesh& mesh, const VertexData<int>& local, std::span<con
   offset_.assign(1, 0);
   spoke_offset_.assign(1, 0);
   std::vector<std::array<double, 2>> cots;  // per face of the row's fan: |cot| at n and at j
+  FaceData<int> index(static_cast<std::size_t>(mesh.n_faces()), -1);
   for (int i = 0; i < static_cast<int>(lap.rows()); ++i) {
     const std::size_t first = faces_.size();
     cots.clear();
@@ -38,7 +39,12 @@ FaceFans::FaceFans(const Mesh& mesh, const VertexData<int>& local, std::span<con
       if (j < 0 || n < 0) continue;
       // The operators' clamped cotangents (0 on a degenerate face); corner k weights the opposite edge.
       const detail::CornerWeights w = detail::corner_weights(row(rest, i), row(rest, j), row(rest, n));
-      faces_.push_back({j, n, 0.0, 0.0});
+      int& face = index[mesh.face(h)];
+      if (face < 0) {
+        face = static_cast<int>(corners_.size());
+        corners_.push_back({i, j, n});
+      }
+      faces_.push_back({j, n, face, 0.0, 0.0});
       // The fit's three edges (i, j), (i, n), (j, n), gathered on the row's ring.
       add_spoke(i, j, i, fit_weight(w.cot[2]), rest);
       add_spoke(i, n, i, fit_weight(w.cot[1]), rest);
@@ -85,23 +91,31 @@ Eigen::Matrix3d FaceFans::covariance(int i, const double* x) const {
   return s;
 }
 
-double FaceFans::target_scale(double stretch) {
+double FaceFans::target_scale(double stretch, const OneSided& one_sided) {
   // An edge turned against its target (a cold start's first step under a large rotation)
   // counts as fully compressed, not more.
   stretch = std::clamp(stretch, 0.0, kMaxStretch);
-  if (stretch < 1.0) return 1.0 + kCompressionGain * (1.0 - stretch);
-  return 1.0 + kStretchShare * (stretch - 1.0);
+  if (stretch < 1.0) {
+    const double u = 1.0 - stretch, w = one_sided.onset;
+    return 1.0 + one_sided.compression_gain * (u >= w ? u - 0.5 * w : 0.5 * u * u / w);
+  }
+  return 1.0 + one_sided.stretch_share * (stretch - 1.0);
 }
 
-Eigen::Vector3d FaceFans::rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& rot,
-                                  const double* x) const {
+Eigen::Matrix3d FaceFans::mean(int face, const std::vector<Eigen::Matrix3d>& rot) const {
+  const std::array<int, 3>& c = corners_[static_cast<std::size_t>(face)];
+  return (rot[static_cast<std::size_t>(c[0])] + rot[static_cast<std::size_t>(c[1])] +
+          rot[static_cast<std::size_t>(c[2])]) /
+         3.0;
+}
+
+Eigen::Vector3d FaceFans::rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& means, const double* x,
+                                  const OneSided& one_sided) const {
   Vec b = Vec::Zero();
   const Vec ri = row(rest, i);
-  const Eigen::Matrix3d& rot_i = rot[static_cast<std::size_t>(i)];
   for (int k = offset_[static_cast<std::size_t>(i)]; k < offset_[static_cast<std::size_t>(i) + 1]; ++k) {
     const Face& f = faces_[static_cast<std::size_t>(k)];
-    const Eigen::Matrix3d mean =
-        (rot_i + rot[static_cast<std::size_t>(f.j)] + rot[static_cast<std::size_t>(f.n)]) / 3.0;
+    const Eigen::Matrix3d& mean = means[static_cast<std::size_t>(f.face)];
     const Vec ej = row(rest, f.j) - ri, en = row(rest, f.n) - ri;
     if (!x) {
       b += mean * (f.wj * ej + f.wn * en);
@@ -112,7 +126,7 @@ Eigen::Vector3d FaceFans::rotated(int i, const double* rest, const std::vector<E
       const Vec t = mean * r + r;
       const double tt = t.squaredNorm();
       const double stretch = tt > 0.0 ? (row(x, j) - row(x, i)).dot(t) / tt : 1.0;
-      return target_scale(stretch) * t - r;
+      return target_scale(stretch, one_sided) * t - r;
     };
     b += f.wj * target(f.j, ej) + f.wn * target(f.n, en);
   }

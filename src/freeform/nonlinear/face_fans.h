@@ -10,10 +10,22 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include <array>
 #include <span>
 #include <vector>
 
 namespace freeform {
+
+// How the membrane's target follows an edge's stretch s along it (FaceFans::target_scale): a
+// compressed edge (s < 1) is pushed out to 1 + compression_gain (1 - s) of its target, a
+// stretched one pulled back to 1 + stretch_share (s - 1). With onset > 0 the push starts
+// smoothly: compression_gain (1 - s)^2 / (2 onset) up to a compression of onset, then the line
+// shifted by onset / 2 (its slope continuous).
+struct OneSided {
+  double compression_gain = 0.5;
+  double stretch_share = 0.5;
+  double onset = 0.0;
+};
 
 class FaceFans {
  public:
@@ -32,24 +44,30 @@ class FaceFans {
 
   // ARAP's right-hand side of row i (a free row) as rotated minus rest Laplacian coordinates:
   // each face's two edges at i turned by the mean M of its three corners' rot (scale times
-  // rotation minus the identity; constrained corners with their own), the gradient of the
+  // rotation minus the identity; constrained corners with their own; means[face], mean()), the gradient of the
   // spokes-and-rims energy. lap's weight of each edge is split between its faces in proportion
   // to their |cotangent|, so a common rot of all corners gives rot * (lap rest)_i exactly.
   // With x (the current positions), each edge's target M r is also scaled by target_scale() of
   // its stretch along the target (a one-sided membrane; exactly 1 at rest and under rigid
   // motions, so those stay exact).
-  Eigen::Vector3d rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& rot,
-                          const double* x = nullptr) const;
+  Eigen::Vector3d rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& means,
+                          const double* x = nullptr, const OneSided& one_sided = {}) const;
+
+  // The distinct faces of the fans (each is in up to three rows' fans), and face f's mean of
+  // its corners' rot: rotated() takes these means, one per face (computed once, not per row).
+  int n_faces() const { return static_cast<int>(corners_.size()); }
+  Eigen::Matrix3d mean(int face, const std::vector<Eigen::Matrix3d>& rot) const;
 
   // The membrane target's scale for an edge stretched by `stretch` along its target (the
-  // projection that minimizes |e - s M r|, 1 for an unchanged edge): a compressed edge is
-  // pushed out beyond its rest length, a stretched one is pulled back only halfway; both
-  // bounded (docs/nonlinear.md, "What the gallery found", 21).
-  static double target_scale(double stretch);
+  // projection that minimizes |e - s M r|, 1 for an unchanged edge): by default a compressed
+  // edge is pushed out beyond its rest length, a stretched one is pulled back only halfway;
+  // both bounded (docs/nonlinear.md, "What the gallery found", 21 and 28).
+  static double target_scale(double stretch, const OneSided& one_sided = {});
 
  private:
   struct Face {
     int j, n;       // the other corners, counter-clockwise from i
+    int face;       // index into corners_
     double wj, wn;  // lap's weight of edges (i, j) and (i, n) carried by this face
   };
   struct Spoke {
@@ -61,6 +79,7 @@ class FaceFans {
 
   std::vector<int> offset_, spoke_offset_;
   std::vector<Face> faces_;
+  std::vector<std::array<int, 3>> corners_;  // per distinct face: its local rows
   std::vector<Spoke> spokes_;
 };
 

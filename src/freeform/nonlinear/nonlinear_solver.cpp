@@ -47,6 +47,13 @@ constexpr double kMembraneFree = 500.0, kMaxMembrane = 2.0;
 // editor benchmark's drags settle far later, at k = 2 and 3 alike (docs/nonlinear.md, "What the
 // gallery found", 22).
 constexpr int kLocalMembraneMaxFree = 10000;
+// How the membrane's targets follow the edges' stretch (face_fans.h). With its own 1-ring
+// rotations: compressed edges pushed out, stretched ones pulled back halfway (chosen on the
+// gallery, docs/nonlinear.md, "What the gallery found", 21). With the smoothed field (larger
+// supports) a stretch is resisted fully and the push's onset is smooth: releasing stretch, or a
+// kink at the rest length, made the editor benchmark's bunny twist settle in 40-300 iterations
+// instead of 25-28; without the push the subdivided armadillo's knee crumpled at C0 (item 28).
+constexpr OneSided kLocalMembrane{}, kFieldMembrane{0.5, 0.0, 0.1};
 // Above this many free vertices the volume term's response to the gradient at the iterate is
 // solved together with the step (one back-substitution of 6 columns instead of two of 3; the
 // solves are most of an iteration there). Below it the response is to the gradient after the
@@ -134,6 +141,7 @@ struct NonlinearSolver::Data {
   std::vector<Eigen::Quaterniond> q, guide;
   std::vector<double> scale;
   std::vector<Eigen::Matrix3d> rot;  // scale * rotation - identity per local vertex (workspace)
+  mutable std::vector<Eigen::Matrix3d> means;  // per face of the fans (arap_rows' workspace)
   std::vector<Eigen::Matrix3d> cov, cov2;  // workspace of the rotation fit
   // The membrane term (add_membrane): its weight, and at order 2 its own rotations, fitted to
   // the 1-ring alone (ARAP's local step), with its rotated minus rest edges (P x 3).
@@ -330,8 +338,8 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
     // Global step: the rest's Laplacian coordinates with each edge rotated and scaled by the
     // mean of its ends (ARAP's right-hand side), minus the rest's own: exactly zero at rest.
     //   A_pp (x_p - rest_p) = outer * b1 + mu b_mem - A_pc (x_c - rest_c)
-    // (mu b_mem: the membrane term, add_membrane; b_mem is b1's free rows unless the membrane
-    // turns its edges with its own 1-ring rotations.)
+    // (mu b_mem: the membrane term, add_membrane: ARAP's spokes-and-rims right-hand side with
+    // one-sided targets, turned by its own 1-ring rotations or, on large supports, the field's.)
     const int n_local = static_cast<int>(d.q.size());
     parallel_rows(n_local, [&](int i) {
       const auto ui = static_cast<std::size_t>(i);
@@ -351,14 +359,17 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
     times_rows(d.outer, d.b1, rhs);
     rhs -= d.ac;
     if (!d.local_membrane) {
-      if (d.mu != 0.0) rhs += d.mu * d.b1.topRows(p);
+      if (d.mu != 0.0) {
+        arap_rows(d.rot, d.b_mem, &kFieldMembrane);
+        rhs += d.mu * d.b_mem;
+      }
     } else {
       parallel_rows(n_local, [&](int i) {
         const auto ui = static_cast<std::size_t>(i);
         d.rot_local[ui] =
             i < p ? d.scale[ui] * d.q_local[ui].toRotationMatrix() - Eigen::Matrix3d::Identity() : d.rot[ui];
       });
-      arap_rows(d.rot_local, d.b_mem, true);
+      arap_rows(d.rot_local, d.b_mem, &kLocalMembrane);
       rhs += d.mu * d.b_mem;
     }
     if (joint) d.volume_rhs(p, both.rightCols(volume_cols));
@@ -446,8 +457,8 @@ void NonlinearSolver::add_membrane(double weight) {
   if (d.local_membrane) {
     d.q_local.assign(static_cast<std::size_t>(p), Eigen::Quaterniond::Identity());
     d.rot_local.resize(static_cast<std::size_t>(p) + d.owner.size());  // the constrained ones: their own
-    d.b_mem.resize(p, 3);
   }
+  d.b_mem.resize(p, 3);
 }
 
 // ARAP's rotated minus rest Laplacian coordinates of the free rows (face_fans.h): the edges to
@@ -455,11 +466,16 @@ void NonlinearSolver::add_membrane(double weight) {
 // C^(k-1) boundary rule is not the membrane's: with it, our order 1 folded twice as many edges
 // of the gallery; docs/nonlinear.md, "What the gallery found", 12). one_sided: each edge's
 // target length follows its stretch at the current iterate (FaceFans::target_scale).
-void NonlinearSolver::arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out, bool one_sided) const {
+void NonlinearSolver::arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out,
+                                const OneSided* one_sided) const {
   const Data& d = *d_;
   out.resize(n_free_, 3);
   const double* x = one_sided ? d.x.data() : nullptr;
-  parallel_rows(n_free_, [&](int i) { out.row(i) = d.fans->rotated(i, d.rest.data(), rot, x).transpose(); });
+  const OneSided target = one_sided ? *one_sided : OneSided{};
+  d.means.resize(static_cast<std::size_t>(d.fans->n_faces()));
+  parallel_rows(d.fans->n_faces(), [&](int f) { d.means[static_cast<std::size_t>(f)] = d.fans->mean(f, rot); });
+  parallel_rows(n_free_,
+                [&](int i) { out.row(i) = d.fans->rotated(i, d.rest.data(), d.means, x, target).transpose(); });
 }
 
 void NonlinearSolver::keep_volumes() {

@@ -34,6 +34,8 @@
 
 namespace freeform {
 
+struct OneSided;
+
 struct NonlinearOptions {
   // Per solve(); the report says when the cap stopped it. 500 lets all gallery edits but one
   // converge, where 200 stopped several (docs/nonlinear.md, "What the gallery found", 13 and
@@ -118,7 +120,8 @@ class NonlinearSolver final : public IterativeModel {
   void fit_rotations();
   void keep_volumes();
   void add_membrane(double weight);
-  void arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out, bool one_sided = false) const;
+  void arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out,
+                 const OneSided* one_sided = nullptr) const;
 };
 
 // The model for MultiresOptions::model: the nonlinear model on the multiresolution base,
