@@ -16,9 +16,7 @@ Eigen::Map<const Vec> row(const double* p, int i) {
 
 // Fit weight floor (cotangent units): no edge of a needle triangle drops out of the fit.
 constexpr double kFitFloor = 1e-3;
-// The one-sided membrane (target_scale). Chosen on the gallery (docs/nonlinear.md, 21): a
-// compression gain of 1 oscillates on small supports, where the membrane outweighs bending;
-// accepting all of the stretch lets stretched regions drift for hundreds of iterations.
+// The one-sided membrane's bound (target_scale): a stretch counts up to this much.
 constexpr double kMaxStretch = 1.5;
 double fit_weight(double cot) { return std::max(cot, 0.0) + kFitFloor; }
 

@@ -20,7 +20,10 @@ namespace freeform {
 // compressed edge (s < 1) is pushed out to 1 + compression_gain (1 - s) of its target, a
 // stretched one pulled back to 1 + stretch_share (s - 1). With onset > 0 the push starts
 // smoothly: compression_gain (1 - s)^2 / (2 onset) up to a compression of onset, then the line
-// shifted by onset / 2 (its slope continuous).
+// shifted by onset / 2 (its slope continuous). The defaults were chosen on the gallery
+// (docs/nonlinear.md, "What the gallery found", 21): a compression gain of 1 oscillates on small
+// supports, where the membrane outweighs bending; accepting all of the stretch lets stretched
+// regions drift for hundreds of iterations.
 struct OneSided {
   double compression_gain = 0.5;
   double stretch_share = 0.5;
@@ -44,12 +47,11 @@ class FaceFans {
 
   // ARAP's right-hand side of row i (a free row) as rotated minus rest Laplacian coordinates:
   // each face's two edges at i turned by the mean M of its three corners' rot (scale times
-  // rotation minus the identity; constrained corners with their own; means[face], mean()), the gradient of the
-  // spokes-and-rims energy. lap's weight of each edge is split between its faces in proportion
-  // to their |cotangent|, so a common rot of all corners gives rot * (lap rest)_i exactly.
-  // With x (the current positions), each edge's target M r is also scaled by target_scale() of
-  // its stretch along the target (a one-sided membrane; exactly 1 at rest and under rigid
-  // motions, so those stay exact).
+  // rotation minus the identity; constrained corners with their own), given per face in
+  // `means` (mean()): the gradient of the spokes-and-rims energy. lap's weight of each edge is split between its faces
+  // in proportion to their |cotangent|, so a common rot of all corners gives rot * (lap rest)_i exactly. With x (the
+  // current positions), each edge's target M r is also scaled by target_scale() of its stretch along the target (a
+  // one-sided membrane; exactly 1 at rest and under rigid motions, so those stay exact).
   Eigen::Vector3d rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& means,
                           const double* x = nullptr, const OneSided& one_sided = {}) const;
 
