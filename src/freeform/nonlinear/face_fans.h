@@ -48,10 +48,11 @@ class FaceFans {
   // ARAP's right-hand side of row i (a free row) as rotated minus rest Laplacian coordinates:
   // each face's two edges at i turned by the mean M of its three corners' rot (scale times
   // rotation minus the identity; constrained corners with their own), given per face in
-  // `means` (mean()): the gradient of the spokes-and-rims energy. lap's weight of each edge is split between its faces
-  // in proportion to their |cotangent|, so a common rot of all corners gives rot * (lap rest)_i exactly. With x (the
-  // current positions), each edge's target M r is also scaled by target_scale() of its stretch along the target (a
-  // one-sided membrane; exactly 1 at rest and under rigid motions, so those stay exact).
+  // `means` (mean()): the gradient of the spokes-and-rims energy. lap's weight of each edge is
+  // split between its faces in proportion to their |cotangent|, so a common rot of all corners
+  // gives rot * (lap rest)_i exactly. With x (the current positions), each edge's target M r is
+  // also scaled by target_scale() of its stretch along the target (a one-sided membrane;
+  // exactly 1 at rest and under rigid motions, so those stay exact).
   Eigen::Vector3d rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& means,
                           const double* x = nullptr, const OneSided& one_sided = {}) const;
 

@@ -141,7 +141,7 @@ struct NonlinearSolver::Data {
   std::vector<Eigen::Quaterniond> q, guide;
   std::vector<double> scale;
   std::vector<Eigen::Matrix3d> rot;  // scale * rotation - identity per local vertex (workspace)
-  mutable std::vector<Eigen::Matrix3d> means;  // per face of the fans (arap_rows' workspace)
+  std::vector<Eigen::Matrix3d> means;      // per face of the fans (arap_rows' workspace)
   std::vector<Eigen::Matrix3d> cov, cov2;  // workspace of the rotation fit
   // The membrane term (add_membrane): its weight, and at order 2 its own rotations, fitted to
   // the 1-ring alone (ARAP's local step), with its rotated minus rest edges (P x 3).
@@ -464,11 +464,11 @@ void NonlinearSolver::add_membrane(double weight) {
 // ARAP's rotated minus rest Laplacian coordinates of the free rows (face_fans.h): the edges to
 // constrained vertices turn with the mean of both ends, as in ARAP's energy (the bending term's
 // C^(k-1) boundary rule is not the membrane's: with it, our order 1 folded twice as many edges
-// of the gallery; docs/nonlinear.md, "What the gallery found", 12). one_sided: each edge's
-// target length follows its stretch at the current iterate (FaceFans::target_scale).
+// of the gallery; docs/nonlinear.md, "What the gallery found", 12). one_sided (null: fixed
+// targets): how each edge's target follows its stretch at the current iterate (face_fans.h).
 void NonlinearSolver::arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out,
-                                const OneSided* one_sided) const {
-  const Data& d = *d_;
+                                const OneSided* one_sided) {
+  Data& d = *d_;
   out.resize(n_free_, 3);
   const double* x = one_sided ? d.x.data() : nullptr;
   const OneSided target = one_sided ? *one_sided : OneSided{};

@@ -120,8 +120,7 @@ class NonlinearSolver final : public IterativeModel {
   void fit_rotations();
   void keep_volumes();
   void add_membrane(double weight);
-  void arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out,
-                 const OneSided* one_sided = nullptr) const;
+  void arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out, const OneSided* one_sided = nullptr);
 };
 
 // The model for MultiresOptions::model: the nonlinear model on the multiresolution base,
