@@ -6,9 +6,13 @@
 // weighted max(0, -ln sigma_min)) and its share of area halved, the largest dihedral increase, the volume ratio
 // (closed meshes), iterations, converged, time. JSON on stdout, a summary table on stderr.
 //   bench_gallery [--quick] [--no-peer] [--out DIR] [--peer-iterations N] [--seed S] [--linear-multires]
-//                 [--config NAME]... [--case TEXT]
+//                 [--config NAME]... [--case TEXT] [--mesh FILE]... [--assimp]
 // --out writes each case's rest and deformed meshes (OFF) for scripts/gallery.sh's contact sheet, and the
 // edit file of the Freeform run written (`freeform deform CASE-rest.off --edit CASE.edit.json` repeats it).
+// --mesh: instead of the gallery's meshes, the same limb edits (3 limbs, support radius 0.2 of the
+// diagonal) on any mesh files: meshes nobody tuned for, read as `--repair` reads them.
+// --assimp: the same on every OBJ, OFF, PLY, STL and glTF file of Debian's assimp-testmodels
+// (/usr/share/assimp/models, or FREEFORM_ASSIMP_DIR) with at least 300 vertices.
 // --linear-multires: the linear model's multiresolution instead, both encodings (vertex frames,
 // normal displacement) on the same cases with their rotations scaled to a third (edits linear
 // BCM is made for) and on surface patches, judged by the same counts plus the detail heights
@@ -27,13 +31,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
-#include <algorithm>
 #include <map>
 #include <numbers>
 #include <string>
@@ -182,6 +187,8 @@ struct Options {
   bool linear_multires = false;
   std::vector<std::string> configs;  // --config NAME (repeatable): only these Freeform runs
   std::string only;                  // --case TEXT: only the cases whose name contains it
+  std::vector<std::string> meshes;   // --mesh FILE (repeatable): limb edits on these files only
+  bool assimp = false;               // --assimp: limb edits on assimp-testmodels' files
 };
 
 Options parse(int argc, char** argv) {
@@ -208,13 +215,60 @@ Options parse(int argc, char** argv) {
       o.configs.push_back(value());
     else if (a == "--case")
       o.only = value();
+    else if (a == "--mesh")
+      o.meshes.push_back(value());
+    else if (a == "--assimp")
+      o.assimp = true;
     else
       throw std::runtime_error("unknown option " + a);
   }
   return o;
 }
 
+// The mesh files of assimp-testmodels, sorted.
+std::vector<std::string> assimp_files() {
+  const char* env = std::getenv("FREEFORM_ASSIMP_DIR");
+  const std::filesystem::path dir = env ? env : "/usr/share/assimp/models";
+  if (!std::filesystem::is_directory(dir))
+    throw std::runtime_error(dir.string() + " missing (apt-get install assimp-testmodels)");
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir)) {
+    std::string ext = e.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (e.is_regular_file() &&
+        (ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl" || ext == ".gltf" || ext == ".glb"))
+      files.push_back(e.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// Limb edits on the files of --mesh or --assimp; a file that cannot be read, is smaller than
+// kMinFileVertices or gives no limb is reported and skipped.
+std::vector<Shape> file_gallery(const Options& o) {
+  constexpr int kMinFileVertices = 300;
+  std::vector<Shape> cases;
+  std::mt19937 rng(o.seed);
+  for (const std::string& file : o.assimp ? assimp_files() : o.meshes) {
+    try {
+      // As `freeform deform --repair` reads them: real files split at non-manifold vertices.
+      const Mesh mesh = Mesh::from_soup(read_mesh(file).soup, BuildOptions{.repair = true});
+      if (mesh.n_vertices() < kMinFileVertices) continue;
+      const std::filesystem::path path(file);
+      const std::string label = path.parent_path().filename().string() + "-" + path.filename().string();
+      std::vector<Shape> limbs = test::limb_cases(label, mesh, 3, 0.2, rng);
+      if (limbs.empty()) std::fprintf(stderr, "gallery: %s: no limb found, skipped\n", file.c_str());
+      for (Shape& s : limbs) cases.push_back(std::move(s));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "gallery: %s skipped: %s\n", file.c_str(), e.what());
+    }
+  }
+  return cases;
+}
+
 std::vector<Shape> gallery(const Options& o) {
+  if (!o.meshes.empty() || o.assimp) return file_gallery(o);
   std::vector<Shape> cases;
   Shape cyl = test::flat_cylinder_bend();
   Shape bar = test::bar_twist(), capsule = test::cylinder_bend();

@@ -58,7 +58,10 @@ inline std::optional<Limb> limb(const Mesh& mesh, Vertex tip_vertex, double radi
   const Vec3 c = mesh.position(tip_vertex);
   l.support = select_geodesic(mesh, c, radius, "support");
   l.handle = select_geodesic(mesh, c, radius / 3.0, "handle");
-  if (l.support.size() * 2 > static_cast<std::size_t>(mesh.n_vertices()) || l.handle.size() < 3) return std::nullopt;
+  // A support that is all handle (a small part whole, e.g. a loose piece of a real file) is no limb.
+  if (l.support.size() * 2 > static_cast<std::size_t>(mesh.n_vertices()) || l.handle.size() < 3 ||
+      l.handle.size() >= l.support.size())
+    return std::nullopt;
   std::vector<char> in(static_cast<std::size_t>(mesh.n_vertices()), 0);
   for (Vertex v : l.support) in[static_cast<std::size_t>(v.idx())] = 1;
   int rim_count = 0;
