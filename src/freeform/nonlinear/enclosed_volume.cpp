@@ -34,8 +34,6 @@ std::array<double, N> chunked_sum(std::size_t faces, const Term& term, const Mer
 
 void add_sums(std::array<double, 1>& total, const std::array<double, 1>& s) { total[0] += s[0]; }
 
-const Vec3& at(const std::vector<Vec3>& y, int slot) { return y[static_cast<std::size_t>(slot)]; }
-
 }  // namespace
 
 EnclosedVolumes::EnclosedVolumes(const Mesh& mesh, const VertexData<Vec3>& rest, const VertexData<int>& local,
@@ -54,17 +52,15 @@ EnclosedVolumes::EnclosedVolumes(const Mesh& mesh, const VertexData<Vec3>& rest,
       parts_.emplace_back();
     }
   if (parts_.empty()) return;
-  // Per vertex: its place among its part's local rows, or among its extra vertices.
-  VertexData<int> index(static_cast<std::size_t>(mesh.n_vertices()), -1);
+  VertexData<int> extra_index(static_cast<std::size_t>(mesh.n_vertices()), -1);
   for (Vertex v : mesh.vertices()) {
     const int p = comp.vertex_component[v] >= 0 ? part_of[static_cast<std::size_t>(comp.vertex_component[v])] : -1;
     if (p < 0 || mesh.is_isolated(v)) continue;
     Part& part = parts_[static_cast<std::size_t>(p)];
     if (local[v] >= 0) {
-      index[v] = static_cast<int>(part.local_rows.size());
       part.local_rows.push_back(local[v]);
     } else {
-      index[v] = static_cast<int>(part.extra.size());
+      extra_index[v] = static_cast<int>(part.extra.size());
       part.extra.push_back(v);
       const int h = regions.handle_of(v);
       part.extra_owner.push_back(h >= 0 ? regions.movable_index(h) : -1);
@@ -75,17 +71,15 @@ EnclosedVolumes::EnclosedVolumes(const Mesh& mesh, const VertexData<Vec3>& rest,
   for (Face f : mesh.faces()) {
     const int p = part_of[static_cast<std::size_t>(comp.face_component[f])];
     if (p < 0) continue;
-    Part& part = parts_[static_cast<std::size_t>(p)];
     std::array<int, 3> corners{};
     const std::array<Vertex, 3> vs = mesh.vertices(f);
     bool moves = false;
     for (int k = 0; k < 3; ++k) {
       const int row = local[vs[k]];
-      corners[static_cast<std::size_t>(k)] =
-          row >= 0 ? index[vs[k]] : static_cast<int>(part.local_rows.size()) + index[vs[k]];
+      corners[static_cast<std::size_t>(k)] = row >= 0 ? row : -1 - extra_index[vs[k]];
       moves = moves || (row >= 0 && row < n_free);
     }
-    (moves ? part.moving : part.fixed).push_back(corners);
+    (moves ? parts_[static_cast<std::size_t>(p)].moving : parts_[static_cast<std::size_t>(p)].fixed).push_back(corners);
   }
   for (Part& part : parts_) {
     part.centre /= static_cast<double>(part.local_rows.size() + part.extra.size());
@@ -113,9 +107,8 @@ EnclosedVolumes::EnclosedVolumes(const Mesh& mesh, const VertexData<Vec3>& rest,
   for (Vertex v : mesh.vertices())
     if (local[v] >= 0) x.row(local[v]) = rest[v].transpose();
   for (Part& part : parts_) {
-    const std::vector<Vec3> y = scaled(part, x);
-    part.fixed_sum = fixed_sum(part, y);
-    part.rest_volume = part.target = (part.fixed_sum + moving_sum(part, y)) / 6.0;
+    part.fixed_sum = fixed_sum(part, x);
+    part.rest_volume = part.target = (part.fixed_sum + moving_sum(part, x)) / 6.0;
   }
 }
 
@@ -127,34 +120,24 @@ void EnclosedVolumes::index_free_corners(Part& part) const {
     return static_cast<std::size_t>(std::lower_bound(part.free_rows.begin(), part.free_rows.end(), r) -
                                     part.free_rows.begin());
   };
-  const auto row = [&part](int s) {
-    return s < static_cast<int>(part.local_rows.size()) ? part.local_rows[static_cast<std::size_t>(s)] : -1;
-  };
   part.corner_offset.assign(part.free_rows.size() + 1, 0);
   for (const auto& f : part.moving)
-    for (int s : f)
-      if (const int r = row(s); r >= 0 && r < n_free_) ++part.corner_offset[slot(r) + 1];
+    for (int r : f)
+      if (r >= 0 && r < n_free_) ++part.corner_offset[slot(r) + 1];
   for (std::size_t i = 0; i < part.free_rows.size(); ++i) part.corner_offset[i + 1] += part.corner_offset[i];
   part.corners.resize(static_cast<std::size_t>(part.corner_offset.back()));
   std::vector<int> next(part.corner_offset.begin(), part.corner_offset.end() - 1);
   for (std::size_t f = 0; f < part.moving.size(); ++f)  // in face order: the serial sum's order
     for (int k = 0; k < 3; ++k) {
-      const int r = row(part.moving[f][static_cast<std::size_t>(k)]);
+      const int r = part.moving[f][static_cast<std::size_t>(k)];
       if (r >= 0 && r < n_free_) part.corners[static_cast<std::size_t>(next[slot(r)]++)] = 4 * static_cast<int>(f) + k;
     }
 }
 
-std::vector<Vec3> EnclosedVolumes::scaled(const Part& part, const RowMatrixX3d& x) const {
-  const std::size_t rows = part.local_rows.size();
-  std::vector<Vec3> y(rows + part.extra.size());
-  parallel_for(
-      static_cast<std::ptrdiff_t>(y.size()), static_cast<std::ptrdiff_t>(kFaceChunk),
-      [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
-        for (auto i = static_cast<std::size_t>(lo); i < static_cast<std::size_t>(hi); ++i)
-          y[i] = ((i < rows ? Vec3(x.row(part.local_rows[i]).transpose()) : part.extra_now[i - rows]) - part.centre) *
-                 part.inv_scale;
-      });
-  return y;
+Vec3 EnclosedVolumes::corner(const Part& part, int index, const RowMatrixX3d& x) const {
+  return ((index >= 0 ? Vec3(x.row(index).transpose()) : part.extra_now[static_cast<std::size_t>(-1 - index)]) -
+          part.centre) *
+         part.inv_scale;
 }
 
 void EnclosedVolumes::start(std::span<const Eigen::Affine3d> transforms, std::span<const double> scale,
@@ -169,37 +152,36 @@ void EnclosedVolumes::start(std::span<const Eigen::Affine3d> transforms, std::sp
       cubes += s * s * s;
     }
     for (int r : part.local_rows) cubes += std::pow(scale[static_cast<std::size_t>(r)], 3);
-    part.fixed_sum = fixed_sum(part, scaled(part, x));
+    part.fixed_sum = fixed_sum(part, x);
     // The mean cube first: it is exactly 1 when no handle is scaled, so the target is the rest
     // volume to the bit (rest_volume * n / n is not, for some n) and the rest stays a fixed point.
     part.target = part.rest_volume * (cubes / static_cast<double>(part.extra.size() + part.local_rows.size()));
   }
 }
 
-double EnclosedVolumes::fixed_sum(const Part& part, const std::vector<Vec3>& y) const {
+double EnclosedVolumes::fixed_sum(const Part& part, const RowMatrixX3d& x) const {
   double v = 0.0;
-  for (const auto& f : part.fixed) v += at(y, f[0]).dot(at(y, f[1]).cross(at(y, f[2])));
+  for (const auto& f : part.fixed) v += corner(part, f[0], x).dot(corner(part, f[1], x).cross(corner(part, f[2], x)));
   return v;
 }
 
-double EnclosedVolumes::moving_sum(const Part& part, const std::vector<Vec3>& y) const {
+double EnclosedVolumes::moving_sum(const Part& part, const RowMatrixX3d& x) const {
   const auto term = [&](std::size_t i, std::array<double, 1>& sum) {
     const auto& f = part.moving[i];
-    sum[0] += at(y, f[0]).dot(at(y, f[1]).cross(at(y, f[2])));
+    sum[0] += corner(part, f[0], x).dot(corner(part, f[1], x).cross(corner(part, f[2], x)));
   };
   return chunked_sum<1>(part.moving.size(), term, add_sums)[0];
 }
 
 double EnclosedVolumes::volume(int c, const RowMatrixX3d& x) const {
   const Part& part = parts_[static_cast<std::size_t>(c)];
-  return (part.fixed_sum + moving_sum(part, scaled(part, x))) / 6.0;
+  return (part.fixed_sum + moving_sum(part, x)) / 6.0;
 }
 
 void EnclosedVolumes::gradient(int c, const RowMatrixX3d& x, Eigen::Ref<Eigen::MatrixXd> g) const {
   // Per free row, the sum over its faces of the cross product of the face's other two corners
   // (d/dy of V / scale^3, y = x / scale), in face order.
   const Part& part = parts_[static_cast<std::size_t>(c)];
-  const std::vector<Vec3> y = scaled(part, x);
   g.setZero();
   const auto rows = static_cast<std::ptrdiff_t>(part.free_rows.size());
   parallel_for(rows, 1024, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
@@ -209,7 +191,8 @@ void EnclosedVolumes::gradient(int c, const RowMatrixX3d& x, Eigen::Ref<Eigen::M
         const int code = part.corners[static_cast<std::size_t>(e)];
         const auto& f = part.moving[static_cast<std::size_t>(code / 4)];
         const int k = code % 4;
-        sum += at(y, f[static_cast<std::size_t>((k + 1) % 3)]).cross(at(y, f[static_cast<std::size_t>((k + 2) % 3)])) /
+        sum += corner(part, f[static_cast<std::size_t>((k + 1) % 3)], x)
+                   .cross(corner(part, f[static_cast<std::size_t>((k + 2) % 3)], x)) /
                6.0;
       }
       g.row(part.free_rows[i]) = sum.transpose();
@@ -223,15 +206,13 @@ double EnclosedVolumes::multiplier(int c, const RowMatrixX3d& x, const Eigen::Ma
   // for dozens of iterations of a 35k-vertex twist on the bunny, then jumped to a far root
   // that moved vertices by 1.7 times the support's extent.)
   const Part& part = parts_[static_cast<std::size_t>(c)];
-  const std::vector<Vec3> y = scaled(part, x);
-  std::vector<Vec3> v(y.size(), Vec3::Zero());  // u per slot, scaled as y
-  for (std::size_t s = 0; s < part.local_rows.size(); ++s)
-    if (const int r = part.local_rows[s]; r < n_free_) v[s] = u.row(r).transpose() * part.inv_scale;
+  auto is_free = [&](int index) { return index >= 0 && index < n_free_; };
+  auto du = [&](int index) { return is_free(index) ? Vec3(u.row(index).transpose() * part.inv_scale) : Vec3::Zero(); };
   // k[0..3], the area of the moving faces, the largest |u|^2 of a corner.
   const auto term = [&](std::size_t i, std::array<double, 6>& sum) {
     const auto& f = part.moving[i];
-    const Vec3 &a = at(y, f[0]), &b = at(y, f[1]), &d = at(y, f[2]);
-    const Vec3 &ua = at(v, f[0]), &ub = at(v, f[1]), &ud = at(v, f[2]);
+    const Vec3 a = corner(part, f[0], x), b = corner(part, f[1], x), d = corner(part, f[2], x);
+    const Vec3 ua = du(f[0]), ub = du(f[1]), ud = du(f[2]);
     sum[0] += a.dot(b.cross(d));
     sum[1] += ua.dot(b.cross(d)) + a.dot(ub.cross(d)) + a.dot(b.cross(ud));
     sum[2] += ua.dot(ub.cross(d)) + ua.dot(b.cross(ud)) + a.dot(ub.cross(ud));

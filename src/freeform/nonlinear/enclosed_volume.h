@@ -53,9 +53,8 @@ class EnclosedVolumes {
 
  private:
   struct Part {
-    // Corners: slots of the component's vertices, its local rows (local_rows) then its extra
-    // vertices. Moving: a face with a free corner; the others' volume is summed once per frame
-    // (fixed_sum, 6 times their volume).
+    // Corners: >= 0 a local row, < 0 the extra vertex -1 - i. Moving: a face with a free
+    // corner; the others' volume is summed once per frame (fixed_sum, 6 times their volume).
     std::vector<std::array<int, 3>> moving, fixed;
     double fixed_sum = 0;
     // Per free row of the component (free_rows), its corners among the moving faces
@@ -72,11 +71,10 @@ class EnclosedVolumes {
   std::vector<Part> parts_;
   int n_free_ = 0;
 
-  // Per slot, the vertex centred and scaled: each computed once per call, not once per corner.
-  std::vector<Vec3> scaled(const Part& part, const RowMatrixX3d& x) const;
+  Vec3 corner(const Part& part, int index, const RowMatrixX3d& x) const;
   void index_free_corners(Part& part) const;
-  double fixed_sum(const Part& part, const std::vector<Vec3>& y) const;
-  double moving_sum(const Part& part, const std::vector<Vec3>& y) const;
+  double fixed_sum(const Part& part, const RowMatrixX3d& x) const;
+  double moving_sum(const Part& part, const RowMatrixX3d& x) const;
 };
 
 }  // namespace freeform

@@ -20,18 +20,6 @@ constexpr double kFitFloor = 1e-3;
 constexpr double kMaxStretch = 1.5;
 double fit_weight(double cot) { return std::max(cot, 0.0) + kFitFloor; }
 
-// FaceFans::target_scale, inlined into rotated(): it runs for every edge of every fan.
-[[gnu::always_inline]] inline double scale_for(double stretch, const OneSided& one_sided) {
-  // An edge turned against its target (a cold start's first step under a large rotation)
-  // counts as fully compressed, not more.
-  stretch = std::clamp(stretch, 0.0, kMaxStretch);
-  if (stretch < 1.0) {
-    const double u = 1.0 - stretch, w = one_sided.onset;
-    return 1.0 + one_sided.compression_gain * (u >= w ? u - 0.5 * w : 0.5 * u * u / w);
-  }
-  return 1.0 + one_sided.stretch_share * (stretch - 1.0);
-}
-
 }  // namespace
 
 FaceFans::FaceFans(const Mesh& mesh, const VertexData<int>& local, std::span<const Vertex> global, const double* rest,
@@ -101,7 +89,16 @@ Eigen::Matrix3d FaceFans::covariance(int i, const double* x) const {
   return s;
 }
 
-double FaceFans::target_scale(double stretch, const OneSided& one_sided) { return scale_for(stretch, one_sided); }
+double FaceFans::target_scale(double stretch, const OneSided& one_sided) {
+  // An edge turned against its target (a cold start's first step under a large rotation)
+  // counts as fully compressed, not more.
+  stretch = std::clamp(stretch, 0.0, kMaxStretch);
+  if (stretch < 1.0) {
+    const double u = 1.0 - stretch, w = one_sided.onset;
+    return 1.0 + one_sided.compression_gain * (u >= w ? u - 0.5 * w : 0.5 * u * u / w);
+  }
+  return 1.0 + one_sided.stretch_share * (stretch - 1.0);
+}
 
 Eigen::Matrix3d FaceFans::mean(int face, const std::vector<Eigen::Matrix3d>& rot) const {
   const std::array<int, 3>& c = corners_[static_cast<std::size_t>(face)];
@@ -127,7 +124,7 @@ Eigen::Vector3d FaceFans::rotated(int i, const double* rest, const std::vector<E
       const Vec t = mean * r + r;
       const double tt = t.squaredNorm();
       const double stretch = tt > 0.0 ? (row(x, j) - row(x, i)).dot(t) / tt : 1.0;
-      return scale_for(stretch, one_sided) * t - r;
+      return target_scale(stretch, one_sided) * t - r;
     };
     b += f.wj * target(f.j, ej) + f.wn * target(f.n, en);
   }
