@@ -10,7 +10,7 @@
 // --out writes each case's rest and deformed meshes (OFF) for scripts/gallery.sh's contact sheet, and the
 // edit file of the Freeform run written (`freeform deform CASE-rest.off --edit CASE.edit.json` repeats it).
 // --mesh: instead of the gallery's meshes, the same limb edits (3 limbs, support radius 0.2 of the
-// diagonal) on any mesh files: meshes nobody tuned for, read as `--repair` reads them.
+// diagonal) on any mesh files: meshes nobody tuned for, repaired as `freeform convert --repair` does.
 // --assimp: the same on every OBJ, OFF, PLY, STL and glTF file of Debian's assimp-testmodels
 // (/usr/share/assimp/models, or FREEFORM_ASSIMP_DIR) with at least 300 vertices.
 // --linear-multires: the linear model's multiresolution instead, both encodings (vertex frames,
@@ -252,7 +252,7 @@ std::vector<Shape> file_gallery(const Options& o) {
   std::mt19937 rng(o.seed);
   for (const std::string& file : o.assimp ? assimp_files() : o.meshes) {
     try {
-      // As `freeform deform --repair` reads them: real files split at non-manifold vertices.
+      // As `freeform convert --repair` repairs them: real files split at non-manifold vertices.
       const Mesh mesh = Mesh::from_soup(read_mesh(file).soup, BuildOptions{.repair = true});
       if (mesh.n_vertices() < kMinFileVertices) continue;
       const std::filesystem::path path(file);

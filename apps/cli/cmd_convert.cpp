@@ -3,6 +3,7 @@
 
 #include "freeform/io/file_util.h"
 #include "freeform/io/mesh_io.h"
+#include "freeform/io/repair.h"
 #include "freeform/mesh/mesh.h"
 
 #include <fmt/core.h>
@@ -30,19 +31,14 @@ void run(const ConvertOptions& opt) {
   ReadResult read = read_mesh(opt.in, ro);
   for (const auto& w : read.warnings) fmt::print(stderr, "warning: {}\n", w);
   if (opt.repair) {
-    BuildReport report;
-    TriangleSoup repaired = Mesh::from_soup(read.soup, BuildOptions{.repair = true}, &report).to_soup();
+    std::string lost;
+    const BuildReport report = repair(read, lost);
     for (const auto& c : report.changes) fmt::print(stderr, "repair: {}\n", c);
     if (report.changes.size() < static_cast<std::size_t>(report.dropped_faces + report.split_vertices))
       fmt::print(stderr, "repair: ... {} faces dropped, {} vertices split in all\n", report.dropped_faces,
                  report.split_vertices);
-    if (report.changed()) {
-      // Polygons and attributes refer to the faces and vertices the repair changed.
-      fmt::print(stderr, "repair: the repaired mesh is written as triangles without the input's attributes\n");
-      read.soup = std::move(repaired);
-      read.attributes = {};
-      read.source.reset();
-    }
+    if (!lost.empty())
+      fmt::print(stderr, "repair: the input's {} are not kept: the repaired mesh is written anew\n", lost);
   }
   try {
     for (const std::string& d : write_mesh(opt.out, read, read.soup.positions, wo))

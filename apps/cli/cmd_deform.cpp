@@ -8,6 +8,7 @@
 #include "freeform/edit/edit_solver.h"
 #include "freeform/io/file_util.h"
 #include "freeform/io/mesh_io.h"
+#include "freeform/io/repair.h"
 #include "freeform/mesh/mesh.h"
 
 #include <fmt/core.h>
@@ -102,7 +103,7 @@ void run(const DeformOptions& opt) {
 
   ReadResult read = read_mesh(opt.in);
   for (const auto& w : read.warnings) fmt::print(stderr, "warning: {}\n", w);
-  const Mesh mesh = Mesh::from_soup(read.soup);
+  const Mesh mesh = manifold_mesh(read.soup, opt.in);
 
   Edit edit = opt.edit.empty() ? edit_from_sel_def(opt.sel, opt.def, opt.order, mesh) : read_edit_file(opt.edit, mesh);
   if (!opt.deformation.empty()) edit.deformation = *deformation_from_name(opt.deformation);  // checked by CLI11

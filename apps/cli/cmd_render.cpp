@@ -10,6 +10,7 @@
 #include "freeform/edit/edit_solver.h"
 #include "freeform/io/file_util.h"
 #include "freeform/io/mesh_io.h"
+#include "freeform/io/repair.h"
 #include "freeform/mesh/mesh.h"
 #include "viewer/camera.h"
 #include "viewer/egl_context.h"
@@ -102,7 +103,7 @@ void run(const RenderOptions& opt) {
       throw InvalidInput("output " + opt.out + " is the input " + input + "; choose another output");
   ReadResult read = read_mesh(opt.mesh);
   for (const auto& w : read.warnings) fmt::print(stderr, "warning: {}\n", w);
-  const Mesh mesh = Mesh::from_soup(read.soup);
+  const Mesh mesh = manifold_mesh(read.soup, opt.mesh);
   vw::RenderScene scene = vw::make_scene(mesh, vw::kPlainColor, /*recentre=*/true);
   vw::BoundingBox frame = scene.bounds;  // fitted to original and deformed: both renders align
   const int legend_order = opt.edit.empty() ? 0 : show_edit(opt, mesh, scene, frame);

@@ -3,6 +3,7 @@
 #include "bindings.h"
 
 #include "freeform/io/mesh_io.h"
+#include "freeform/io/repair.h"
 
 #include <pybind11/stl.h>
 
@@ -74,22 +75,32 @@ void bind_mesh_file(py::module_& m) {
 
   m.def(
       "read_mesh_file",
-      [](py::handle path) {
+      [](py::handle path, bool repair_mesh) {
         const std::string p = to_path(path);
         MeshFile out;
+        std::vector<std::string> warnings;
         {
           py::gil_scoped_release release;
           auto read = std::make_shared<ReadResult>(read_mesh(p));
+          warnings = read->warnings;
+          if (repair_mesh) {
+            std::string lost;
+            const BuildReport report = repair(*read, lost);
+            for (const std::string& c : report.changes) warnings.push_back("repair: " + c);
+            if (!lost.empty()) warnings.push_back("repair: the file's " + lost + " are not kept (written anew)");
+          }
           out.mesh = std::make_shared<Mesh>(Mesh::from_soup(read->soup));
           out.file = std::move(read);
         }
-        for (const std::string& w : out.file->warnings)
+        for (const std::string& w : warnings)
           if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) != 0) throw py::error_already_set();
         return out;
       },
-      py::arg("path"),
+      py::arg("path"), py::kw_only(), py::arg("repair") = false,
       "Reads OBJ, OFF, PLY, STL or glTF (by extension) with everything it holds. Raises IoError 'file:line: message', "
-      "TopologyError for a non-manifold mesh.");
+      "TopologyError for a non-manifold mesh unless repair=True: then vertices where several fans meet are split "
+      "(copies appended) and faces that repeat a vertex dropped, polygons, texture coordinates and colours carried "
+      "along, each change a UserWarning.");
   m.def(
       "write_mesh_file",
       [](py::handle path, const MeshFile& source, py::handle vertices, py::object binary) {

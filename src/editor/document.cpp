@@ -2,11 +2,12 @@
 
 #include "editor/session.h"
 #include "freeform/bcm/boundary_band.h"
+#include "freeform/common/error.h"
 #include "freeform/edit/edit_json.h"
 #include "freeform/edit/edit_solver.h"
-#include "freeform/common/error.h"
 #include "freeform/io/file_util.h"
 #include "freeform/io/mesh_io.h"
+#include "freeform/io/repair.h"
 
 #include <algorithm>
 #include <chrono>
@@ -39,7 +40,7 @@ const char* paint_label(PaintMode mode, bool remove) {
 
 void Document::open(const std::string& path) {
   ReadResult read = read_mesh(path);
-  Mesh mesh = Mesh::from_soup(read.soup);  // as `freeform deform`: no repair, vertex order kept
+  Mesh mesh = manifold_mesh(read.soup, path);  // as `freeform deform`: no repair, vertex order kept
   reset(std::make_shared<const Mesh>(std::move(mesh)), path);
   warnings_ = read.warnings;
   file_ = std::make_shared<const ReadResult>(std::move(read));

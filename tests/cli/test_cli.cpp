@@ -1,6 +1,7 @@
 // End-to-end tests of the `freeform` executable: output, exit codes, no partial files.
-#include "freeform/io/mesh_io.h"
 #include "cli/cli_runner.h"
+#include "freeform/io/mesh_io.h"
+#include "freeform/mesh/mesh.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -164,4 +165,25 @@ TEST(Cli, ConvertRepairSplitsNonManifoldVertices) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("split vertex 2"));
   EXPECT_EQ(read_mesh((dir / "fixed.off").string()).soup.positions.size(), 6u);
+}
+
+// A real file's kind of defect (a vertex where two fans meet): deform names the file and the
+// repair, and the repaired copy keeps the polygons and texture coordinates (io/repair.h).
+TEST(Cli, RepairedCopyKeepsTextureCoordinates) {
+  test::ScratchDir dir;
+  write_text(dir / "bowtie.obj",
+             "v 0 0 0\nv 1 0 0\nv 0.5 1 0\nv 0 2 0\nv 1 2 0\nvt 0 0\nvt 1 0\nvt 0.5 1\nvt 0.2 0.8\n"
+             "f 1/1 2/2 3/3\nf 3/4 5/2 4/1\n");
+  const CliRun refused =
+      freeform_cli("deform " + q(dir / "bowtie.obj") + " --sel x.sel --def x.def -o " + q(dir / "out.obj"));
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_THAT(refused.err, HasSubstr("bowtie.obj: mesh is not manifold"));
+  EXPECT_THAT(refused.err, HasSubstr("convert --repair"));
+  const CliRun r = freeform_cli("convert --repair " + q(dir / "bowtie.obj") + " " + q(dir / "fixed.obj"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const ReadResult fixed = read_mesh((dir / "fixed.obj").string());
+  EXPECT_NO_THROW(Mesh::from_soup(fixed.soup));
+  ASSERT_EQ(fixed.attributes.uv.index.size(), 6u);
+  EXPECT_EQ(fixed.attributes.uv.values[2 * static_cast<std::size_t>(fixed.attributes.uv.index[3])],
+            0.2);  // vertex 3's second corner
 }

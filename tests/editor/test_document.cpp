@@ -21,10 +21,11 @@
 
 #include <algorithm>
 #include <cstring>
-#include <thread>
+#include <fstream>
 #include <optional>
 #include <span>
 #include <sstream>
+#include <thread>
 
 namespace freeform::editor {
 namespace {
@@ -359,6 +360,17 @@ TEST(Document, FilesAndDirtyFlag) {
   EXPECT_FALSE(doc.dirty());
   EXPECT_THROW(doc.open((dir / "missing.obj").string()), IoError);
   EXPECT_EQ(doc.path(), in);  // unchanged
+  // A non-manifold file is refused naming it and the repair that keeps its attributes.
+  const std::string bowtie = (dir / "bowtie.obj").string();
+  { std::ofstream(bowtie) << "v 0 0 0\nv 1 0 0\nv 0.5 1 0\nv 0 2 0\nv 1 2 0\nf 1 2 3\nf 3 5 4\n"; }
+  try {
+    doc.open(bowtie);
+    ADD_FAILURE() << "a non-manifold file was opened";
+  } catch (const TopologyError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr(bowtie + ": mesh is not manifold"));
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("convert --repair"));
+  }
+  EXPECT_EQ(doc.path(), in);
   const Mesh& m = doc.rest_mesh();
   doc.set_region(PaintMode::Support, disc(m, Vec3(0.5, 0.5, 0), 0.4), false);
   doc.set_region(PaintMode::Handle, disc(m, Vec3(0.5, 0.5, 0), 0.1), false);

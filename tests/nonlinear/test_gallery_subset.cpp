@@ -106,7 +106,7 @@ TEST(GallerySubset, ElephantLimbsAgainstArap) {
 }
 
 // Real files nobody tuned for (docs/nonlinear.md, "What the gallery found", 29): the limb edits
-// of assimp-testmodels' spider and pig (both non-manifold, read with repair as `--repair` reads
+// of assimp-testmodels' spider and pig (both non-manifold, repaired as `convert --repair` does
 // them; 16-534 free vertices), drawn with seed 37 per file, against CGAL's ARAP in the test.
 TEST(GallerySubset, AssimpFilesAgainstArap) {
   const std::filesystem::path dir = "/usr/share/assimp/models/OBJ";

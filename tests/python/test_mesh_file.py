@@ -176,3 +176,35 @@ def test_new_gltf_from_an_obj_reads_in_an_independent_reader(tmp_path):
     assert doc["accessors"][prim["attributes"]["POSITION"]]["count"] == 6
     assert "TEXCOORD_0" in prim["attributes"] and "NORMAL" in prim["attributes"]
     assert np.allclose(corners, f.mesh.vertices[f.mesh.faces.ravel()], atol=1e-7)
+
+
+BOWTIE = """v 0 0 0
+v 1 0 0
+v 0.5 1 0
+v 0 2 0
+v 1 2 0
+vt 0 0
+vt 1 0
+vt 0.5 1
+vt 0.2 0.8
+f 1/1 2/2 3/3
+f 3/4 5/2 4/1
+"""
+
+
+def test_repair_splits_a_vertex_and_keeps_texture_coordinates(tmp_path):
+    path = tmp_path / "bowtie.obj"
+    path.write_text(BOWTIE)
+    with pytest.raises(freeform.TopologyError, match="repair"):
+        freeform.read_mesh_file(path)
+    with pytest.warns(UserWarning, match="split vertex 2"):
+        f = freeform.read_mesh_file(path, repair=True)
+    assert f.mesh.n_vertices == 6  # vertex 2's second fan got vertex 5
+    corners = f.polygon_corners.tolist()
+    assert corners[2] != corners[3] and {corners[2], corners[3]} == {2, 5}
+    values, index = f.uv
+    assert values[index[3]].tolist() == pytest.approx([0.2, 0.8])  # each corner keeps its own
+    out = tmp_path / "fixed.obj"
+    freeform.write_mesh_file(out, f, f.mesh.vertices)
+    back = freeform.read_mesh_file(out)  # manifold now: no repair needed
+    assert back.mesh.n_vertices == 6 and back.uv is not None

@@ -39,6 +39,7 @@ std::vector<Tri> usable_faces(const TriangleSoup& soup, bool repair, BuildReport
     const Tri& t = soup.faces[f];
     if (!detail::has_repeated_index(t)) {
       faces.push_back(t);
+      if (repair) report.face_origin.push_back(static_cast<int>(f));
       continue;
     }
     const std::string what = "face " + std::to_string(f) + " (" + std::to_string(t[0]) + ", " + std::to_string(t[1]) +

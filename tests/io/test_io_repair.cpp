@@ -1,0 +1,98 @@
+// A repaired file keeps what it held (io/repair.h): polygons, texture coordinates, colours and
+// face properties follow the split vertices and the dropped faces, and the repaired file reads
+// back as a manifold mesh with them.
+#include "io_test_util.h"
+
+#include "freeform/io/repair.h"
+#include "freeform/mesh/mesh.h"
+
+#include <algorithm>
+
+namespace freeform::test {
+namespace {
+
+// A quad and a triangle that touch only at vertex 3 (two fans: a non-manifold vertex), and a
+// triangle that repeats a vertex; texture coordinates on every corner.
+const std::string kBowtieObj =
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 2 0\nv 1 2 0\n"
+    "vt 0 0\nvt 0.5 0\nvt 0.5 0.5\nvt 0 0.5\nvt 1 1\nvt 0.5 1\nvt 0.9 0.9\n"
+    "f 1/1 2/2 3/3 4/4\n"
+    "f 3/7 5/5 6/6\n"
+    "f 4/4 4/4 1/1\n";
+
+bool polygon_holds(const Polygons& p, int polygon, const Tri& face) {
+  const auto begin = p.corners.begin() + p.offsets[static_cast<std::size_t>(polygon)];
+  const auto end = p.corners.begin() + p.offsets[static_cast<std::size_t>(polygon) + 1];
+  return std::all_of(face.begin(), face.end(), [&](int v) { return std::find(begin, end, v) != end; });
+}
+
+TEST(Repair, ObjKeepsPolygonsAndTextureCoordinates) {
+  ReadResult r = read_file_mem(MeshFormat::Obj, kBowtieObj, "bowtie.obj");
+  ASSERT_THROW(Mesh::from_soup(r.soup), TopologyError);
+  const std::vector<int> uv_before = r.attributes.uv.index;
+  std::string lost;
+  const BuildReport report = repair(r, lost);
+  EXPECT_EQ(report.split_vertices, 1);
+  EXPECT_EQ(report.dropped_faces, 1);
+  ASSERT_EQ(r.soup.positions.size(), 7u);  // vertex 3's second fan got vertex 7
+  EXPECT_EQ(r.soup.positions[6], r.soup.positions[2]);
+  ASSERT_EQ(r.attributes.polygons.size(), 2);  // the degenerate triangle's polygon is gone
+  EXPECT_EQ(r.attributes.polygons.corner_count(0), 4);
+  // Exactly one of the two polygons now uses the copy at its corner on vertex 3.
+  const int quad_corner = r.attributes.polygons.corners[2], triangle_corner = r.attributes.polygons.corners[4];
+  EXPECT_NE(quad_corner, triangle_corner);
+  EXPECT_TRUE((quad_corner == 2 && triangle_corner == 6) || (quad_corner == 6 && triangle_corner == 2));
+  // Each corner keeps its texture coordinate; the dropped polygon's three corners are gone.
+  EXPECT_EQ(r.attributes.uv.index, std::vector<int>(uv_before.begin(), uv_before.begin() + 7));
+  ASSERT_EQ(r.attributes.triangle_polygon.size(), r.soup.faces.size());
+  for (std::size_t f = 0; f < r.soup.faces.size(); ++f)
+    EXPECT_TRUE(polygon_holds(r.attributes.polygons, r.attributes.triangle_polygon[f], r.soup.faces[f])) << f;
+
+  // Written anew and read back: a manifold mesh with the same polygons and texture coordinates.
+  const MeshBytes bytes = mesh_bytes("fixed.obj", r, r.soup.positions);
+  const ReadResult back = read_file_mem(MeshFormat::Obj, bytes.data, "fixed.obj");
+  EXPECT_NO_THROW(Mesh::from_soup(back.soup));
+  EXPECT_EQ(back.soup.positions.size(), 7u);
+  EXPECT_EQ(back.attributes.polygons.corners, r.attributes.polygons.corners);
+  ASSERT_FALSE(back.attributes.uv.empty());
+  for (std::size_t c = 0; c < back.attributes.uv.index.size(); ++c)
+    for (int k = 0; k < 2; ++k)
+      EXPECT_EQ(back.attributes.uv.values[2 * static_cast<std::size_t>(back.attributes.uv.index[c]) + k],
+                r.attributes.uv.values[2 * static_cast<std::size_t>(r.attributes.uv.index[c]) + k]);
+}
+
+TEST(Repair, PlyCopiesColoursAndDropsTheFacePropertiesOfDroppedFaces) {
+  const std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+      "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+      "element face 3\nproperty list uchar int vertex_indices\nproperty uchar flag\nend_header\n"
+      "0 0 0 255 0 0\n1 0 0 0 255 0\n0.5 1 0 0 0 255\n0 2 0 255 255 0\n1 2 0 0 255 255\n"
+      "3 0 1 2 7\n3 2 4 3 8\n3 3 3 4 9\n";
+  ReadResult r = read_file_mem(MeshFormat::Ply, ply, "bowtie.ply");
+  std::string lost;
+  const BuildReport report = repair(r, lost);
+  EXPECT_EQ(report.added_vertices, 1);
+  const NamedAttribute* colour = r.attributes.vertex_attribute("color");
+  ASSERT_NE(colour, nullptr);
+  ASSERT_EQ(colour->values.size(), 6u * static_cast<std::size_t>(colour->width));
+  for (int c = 0; c < colour->width; ++c)  // the copy of vertex 2 is blue like it
+    EXPECT_EQ(colour->values[static_cast<std::size_t>(5 * colour->width + c)],
+              colour->values[static_cast<std::size_t>(2 * colour->width + c)]);
+  const auto flag = std::find_if(r.attributes.face.begin(), r.attributes.face.end(),
+                                 [](const NamedAttribute& a) { return a.name == "flag"; });
+  ASSERT_NE(flag, r.attributes.face.end());
+  EXPECT_EQ(flag->values, (std::vector<double>{7, 8}));
+}
+
+TEST(Repair, ManifoldFileIsUntouched) {
+  ReadResult r = read_file_mem(MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n", "tri.obj");
+  const auto source = r.source;
+  std::string lost = "stale";
+  EXPECT_FALSE(repair(r, lost).changed());
+  EXPECT_TRUE(lost.empty());
+  EXPECT_EQ(r.source, source);  // still written back byte for byte
+  EXPECT_EQ(r.soup.positions.size(), 3u);
+}
+
+}  // namespace
+}  // namespace freeform::test
