@@ -39,6 +39,12 @@ void run(const ConvertOptions& opt) {
                  report.split_vertices);
     if (!lost.empty())
       fmt::print(stderr, "repair: the input's {} are not kept: the repaired mesh is written anew\n", lost);
+    // Their readers weld vertices at equal positions (STL has no indices; glTF's primitives share none).
+    if (report.added_vertices > 0 && (wo.format == MeshFormat::Stl || wo.format == MeshFormat::Gltf))
+      fmt::print(stderr,
+                 "note: {} is {}, whose reading joins vertices at equal positions again: read back it is not "
+                 "manifold (OBJ, OFF and PLY keep the split)\n",
+                 opt.out, format_name(wo.format));
   }
   try {
     for (const std::string& d : write_mesh(opt.out, read, read.soup.positions, wo))

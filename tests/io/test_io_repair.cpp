@@ -7,9 +7,12 @@
 #include "freeform/mesh/mesh.h"
 
 #include <algorithm>
+#include <filesystem>
 
 namespace freeform::test {
 namespace {
+
+namespace fs = std::filesystem;
 
 // A quad and a triangle that touch only at vertex 3 (two fans: a non-manifold vertex), and a
 // triangle that repeats a vertex; texture coordinates on every corner.
@@ -82,6 +85,38 @@ TEST(Repair, PlyCopiesColoursAndDropsTheFacePropertiesOfDroppedFaces) {
                                  [](const NamedAttribute& a) { return a.name == "flag"; });
   ASSERT_NE(flag, r.attributes.face.end());
   EXPECT_EQ(flag->values, (std::vector<double>{7, 8}));
+}
+
+// A polygon the repair cannot keep whole: a quad that repeats a vertex (its degenerate triangle
+// dropped), and assimp-testmodels' concave 66-gon, whose fan overlaps itself; each becomes its
+// triangles, which read back as a manifold mesh with each corner's attributes.
+TEST(Repair, PolygonsThatCannotStayWholeBecomeTheirTriangles) {
+  ReadResult r = read_file_mem(MeshFormat::Obj,
+                               "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                               "f 1/1 2/2 2/2 3/3\nf 1/1 3/3 4/4\n",
+                               "repeats.obj");
+  std::string lost;
+  EXPECT_EQ(repair(r, lost).dropped_faces, 1);
+  ASSERT_EQ(r.attributes.polygons.size(), 2);
+  EXPECT_EQ(r.attributes.polygons.corner_count(0), 3);
+  EXPECT_EQ(r.attributes.uv.index, (std::vector<int>{0, 1, 2, 0, 2, 3}));
+  EXPECT_EQ(r.attributes.triangle_polygon, (std::vector<int>{0, 1}));
+
+  const fs::path concave = "/usr/share/assimp/models/OBJ/concave_polygon.obj";
+  if (!fs::exists(concave)) {
+    if (data_required()) FAIL() << concave << " missing: apt-get install assimp-testmodels";
+    GTEST_SKIP() << "assimp-testmodels not installed";
+  }
+  ReadResult file = read_mesh(concave.string());
+  ASSERT_EQ(file.attributes.polygons.size(), 1);
+  ASSERT_THROW(Mesh::from_soup(file.soup), TopologyError);
+  EXPECT_GT(repair(file, lost).split_vertices, 0);
+  EXPECT_EQ(file.attributes.polygons.size(), static_cast<int>(file.soup.faces.size()));
+  const ReadResult back =
+      read_file_mem(MeshFormat::Obj, mesh_bytes("fixed.obj", file, file.soup.positions).data, "fixed.obj");
+  EXPECT_NO_THROW(Mesh::from_soup(back.soup));
+  EXPECT_EQ(back.attributes.polygons.size(), file.attributes.polygons.size());
+  EXPECT_EQ(back.attributes.normal.index.size(), back.attributes.polygons.corners.size());
 }
 
 TEST(Repair, ManifoldFileIsUntouched) {
