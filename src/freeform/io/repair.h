@@ -14,6 +14,7 @@ namespace freeform {
 // can still be written back byte for byte; otherwise its source is dropped (a rewrite cannot add
 // vertices), so what only a rewrite keeps (FileSource::kept_only_by_rewrite, e.g. OBJ's groups
 // and materials) is lost: `lost` names it, empty when nothing.
+// Throws TopologyError when no face would be left.
 BuildReport repair(ReadResult& file, std::string& lost);
 
 // The mesh of a file as read, unrepaired (`freeform deform`, the editor: vertex order and faces
