@@ -32,7 +32,7 @@ void run(const ConvertOptions& opt) {
   for (const auto& w : read.warnings) fmt::print(stderr, "warning: {}\n", w);
   if (opt.repair) {
     std::string lost;
-    const BuildReport report = repair(read, lost);
+    const BuildReport report = repair(read, opt.in, lost);
     for (const auto& c : report.changes) fmt::print(stderr, "repair: {}\n", c);
     if (report.changes.size() < static_cast<std::size_t>(report.dropped_faces + report.split_vertices))
       fmt::print(stderr, "repair: ... {} faces dropped, {} vertices split in all\n", report.dropped_faces,

@@ -85,7 +85,7 @@ void bind_mesh_file(py::module_& m) {
           warnings = read->warnings;
           if (repair_mesh) {
             std::string lost;
-            const BuildReport report = repair(*read, lost);
+            const BuildReport report = repair(*read, p, lost);
             for (const std::string& c : report.changes) warnings.push_back("repair: " + c);
             if (!lost.empty()) warnings.push_back("repair: the file's " + lost + " are not kept (written anew)");
           }

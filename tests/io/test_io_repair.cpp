@@ -36,7 +36,7 @@ TEST(Repair, ObjKeepsPolygonsAndTextureCoordinates) {
   ASSERT_THROW(Mesh::from_soup(r.soup), TopologyError);
   const std::vector<int> uv_before = r.attributes.uv.index;
   std::string lost;
-  const BuildReport report = repair(r, lost);
+  const BuildReport report = repair(r, "test.obj", lost);
   EXPECT_EQ(report.split_vertices, 1);
   EXPECT_EQ(report.dropped_faces, 1);
   ASSERT_EQ(r.soup.positions.size(), 7u);  // vertex 3's second fan got vertex 7
@@ -75,7 +75,7 @@ TEST(Repair, PlyCopiesColoursAndDropsTheFacePropertiesOfDroppedFaces) {
       "3 0 1 2 7\n3 2 4 3 8\n3 3 3 4 9\n";
   ReadResult r = read_file_mem(MeshFormat::Ply, ply, "bowtie.ply");
   std::string lost;
-  const BuildReport report = repair(r, lost);
+  const BuildReport report = repair(r, "test.obj", lost);
   EXPECT_EQ(report.added_vertices, 1);
   const NamedAttribute* colour = r.attributes.vertex_attribute("color");
   ASSERT_NE(colour, nullptr);
@@ -98,7 +98,7 @@ TEST(Repair, PolygonsThatCannotStayWholeBecomeTheirTriangles) {
                                "f 1/1 2/2 2/2 3/3\nf 1/1 3/3 4/4\n",
                                "repeats.obj");
   std::string lost;
-  EXPECT_EQ(repair(r, lost).dropped_faces, 1);
+  EXPECT_EQ(repair(r, "test.obj", lost).dropped_faces, 1);
   ASSERT_EQ(r.attributes.polygons.size(), 2);
   EXPECT_EQ(r.attributes.polygons.corner_count(0), 3);
   EXPECT_EQ(r.attributes.uv.index, (std::vector<int>{0, 1, 2, 0, 2, 3}));
@@ -112,7 +112,7 @@ TEST(Repair, PolygonsThatCannotStayWholeBecomeTheirTriangles) {
   ReadResult file = read_mesh(concave.string());
   ASSERT_EQ(file.attributes.polygons.size(), 1);
   ASSERT_THROW(Mesh::from_soup(file.soup), TopologyError);
-  EXPECT_GT(repair(file, lost).split_vertices, 0);
+  EXPECT_GT(repair(file, concave.string(), lost).split_vertices, 0);
   EXPECT_EQ(file.attributes.polygons.size(), static_cast<int>(file.soup.faces.size()));
   const ReadResult back =
       read_file_mem(MeshFormat::Obj, mesh_bytes("fixed.obj", file, file.soup.positions).data, "fixed.obj");
@@ -147,7 +147,7 @@ TEST(Repair, RandomSoupsReadBackManifoldWithTheirAttributes) {
     ReadResult r = read_file_mem(MeshFormat::Obj, obj, "random.obj");
     std::string lost;
     try {
-      repair(r, lost);
+      repair(r, "test.obj", lost);
     } catch (const Error&) {
       continue;
     }
@@ -162,11 +162,22 @@ TEST(Repair, RandomSoupsReadBackManifoldWithTheirAttributes) {
   EXPECT_GT(repaired, 300);
 }
 
+TEST(Repair, RefusesToLeaveNoFace) {
+  ReadResult r = read_file_mem(MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nf 1 1 2\nf 2 2 1\n", "flat.obj");
+  std::string lost;
+  try {
+    repair(r, "flat.obj", lost);
+    ADD_FAILURE() << "a repair left no face";
+  } catch (const TopologyError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("flat.obj: every face repeats a vertex"));
+  }
+}
+
 TEST(Repair, ManifoldFileIsUntouched) {
   ReadResult r = read_file_mem(MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n", "tri.obj");
   const auto source = r.source;
   std::string lost = "stale";
-  EXPECT_FALSE(repair(r, lost).changed());
+  EXPECT_FALSE(repair(r, "test.obj", lost).changed());
   EXPECT_TRUE(lost.empty());
   EXPECT_EQ(r.source, source);  // still written back byte for byte
   EXPECT_EQ(r.soup.positions.size(), 3u);

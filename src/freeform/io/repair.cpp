@@ -129,11 +129,11 @@ Mesh manifold_mesh(const TriangleSoup& soup, const std::string& path) {
   }
 }
 
-BuildReport repair(ReadResult& file, std::string& lost) {
+BuildReport repair(ReadResult& file, const std::string& path, std::string& lost) {
   BuildReport report;
   TriangleSoup repaired = Mesh::from_soup(file.soup, BuildOptions{.repair = true}, &report).to_soup();
   if (repaired.faces.empty() && !file.soup.faces.empty())
-    throw TopologyError("every face repeats a vertex: the repair would leave no face");
+    throw TopologyError(path + ": every face repeats a vertex: the repair would leave no face");
   lost.clear();
   if (!report.changed()) return report;
   file.attributes =

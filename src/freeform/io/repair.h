@@ -14,8 +14,8 @@ namespace freeform {
 // can still be written back byte for byte; otherwise its source is dropped (a rewrite cannot add
 // vertices), so what only a rewrite keeps (FileSource::kept_only_by_rewrite, e.g. OBJ's groups
 // and materials) is lost: `lost` names it, empty when nothing.
-// Throws TopologyError when no face would be left.
-BuildReport repair(ReadResult& file, std::string& lost);
+// Throws TopologyError naming `path` when no face would be left.
+BuildReport repair(ReadResult& file, const std::string& path, std::string& lost);
 
 // The mesh of a file as read, unrepaired (`freeform deform`, the editor: vertex order and faces
 // kept exactly); a non-manifold one is refused with a TopologyError naming `path` and the command
