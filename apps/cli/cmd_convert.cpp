@@ -37,8 +37,7 @@ void run(const ConvertOptions& opt) {
     if (report.changes.size() < static_cast<std::size_t>(report.dropped_faces + report.split_vertices))
       fmt::print(stderr, "repair: ... {} faces dropped, {} vertices split in all\n", report.dropped_faces,
                  report.split_vertices);
-    if (!lost.empty())
-      fmt::print(stderr, "repair: the input's {} are not kept: the repaired mesh is written anew\n", lost);
+    if (!lost.empty()) fmt::print(stderr, "repair: {}\n", lost);
     // Their readers weld vertices at equal positions (STL has no indices; glTF's primitives share none).
     if (report.added_vertices > 0 && (wo.format == MeshFormat::Stl || wo.format == MeshFormat::Gltf))
       fmt::print(stderr,

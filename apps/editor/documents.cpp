@@ -50,7 +50,8 @@ void App::after_new_document(const std::string& what) {
 void App::open_mesh(const std::string& path) {
   if (path.empty()) return error("Open: type a mesh path into the field first");
   unless_unsaved("opening " + path, [this, path] {
-    if (attempt("cannot open " + path, [&] { doc_.open(path); })) after_new_document("opened " + path);
+    // Document::open's errors name the file (the readers' and the manifold check's).
+    if (attempt("cannot open the mesh", [&] { doc_.open(path); })) after_new_document("opened " + path);
   });
 }
 

@@ -87,7 +87,7 @@ void bind_mesh_file(py::module_& m) {
             std::string lost;
             const BuildReport report = repair(*read, p, lost);
             for (const std::string& c : report.changes) warnings.push_back("repair: " + c);
-            if (!lost.empty()) warnings.push_back("repair: the file's " + lost + " are not kept (written anew)");
+            if (!lost.empty()) warnings.push_back("repair: " + lost);
           }
           out.mesh = std::make_shared<Mesh>(Mesh::from_soup(read->soup));
           out.file = std::move(read);

@@ -21,6 +21,7 @@ namespace fs = std::filesystem;
 const std::string kBowtieObj =
     "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 2 0\nv 1 2 0\n"
     "vt 0 0\nvt 0.5 0\nvt 0.5 0.5\nvt 0 0.5\nvt 1 1\nvt 0.5 1\nvt 0.9 0.9\n"
+    "g body\n"
     "f 1/1 2/2 3/3 4/4\n"
     "f 3/7 5/5 6/6\n"
     "f 4/4 4/4 1/1\n";
@@ -39,6 +40,7 @@ TEST(Repair, ObjKeepsPolygonsAndTextureCoordinates) {
   const BuildReport report = repair(r, "test.obj", lost);
   EXPECT_EQ(report.split_vertices, 1);
   EXPECT_EQ(report.dropped_faces, 1);
+  EXPECT_THAT(lost, ::testing::HasSubstr("groups are not kept"));  // only a rewrite keeps them
   ASSERT_EQ(r.soup.positions.size(), 7u);  // vertex 3's second fan got vertex 7
   EXPECT_EQ(r.soup.positions[6], r.soup.positions[2]);
   ASSERT_EQ(r.attributes.polygons.size(), 2);  // the degenerate triangle's polygon is gone

@@ -89,8 +89,8 @@ std::vector<Emitted> repaired_polygons(const MeshAttributes& in, const TriangleS
   return out;
 }
 
-}  // namespace
-
+// The attributes of a soup with `n_original` vertices after from_soup repaired it into `repaired`
+// (report: what it changed, with face_origin).
 MeshAttributes repaired_attributes(const MeshAttributes& in, const TriangleSoup& repaired, const BuildReport& report,
                                    int n_original) {
   MeshAttributes out = in;
@@ -119,6 +119,8 @@ MeshAttributes repaired_attributes(const MeshAttributes& in, const TriangleSoup&
   return out;
 }
 
+}  // namespace
+
 Mesh manifold_mesh(const TriangleSoup& soup, const std::string& path) {
   try {
     return Mesh::from_soup(soup);
@@ -139,7 +141,8 @@ BuildReport repair(ReadResult& file, const std::string& path, std::string& lost)
   file.attributes =
       repaired_attributes(file.attributes, repaired, report, static_cast<int>(file.soup.positions.size()));
   file.soup = std::move(repaired);
-  if (file.source) lost = file.source->kept_only_by_rewrite();
+  if (file.source && !file.source->kept_only_by_rewrite().empty())
+    lost = "the file's " + file.source->kept_only_by_rewrite() + " are not kept: the repaired mesh is written anew";
   file.source.reset();
   return report;
 }

@@ -13,7 +13,7 @@ namespace freeform {
 // Repairs `file` in place and returns what changed. When nothing did, the file is untouched and
 // can still be written back byte for byte; otherwise its source is dropped (a rewrite cannot add
 // vertices), so what only a rewrite keeps (FileSource::kept_only_by_rewrite, e.g. OBJ's groups
-// and materials) is lost: `lost` names it, empty when nothing.
+// and materials) is lost: `lost` is then the sentence that says so, empty when nothing is.
 // Throws TopologyError naming `path` when no face would be left.
 BuildReport repair(ReadResult& file, const std::string& path, std::string& lost);
 
@@ -21,10 +21,5 @@ BuildReport repair(ReadResult& file, const std::string& path, std::string& lost)
 // kept exactly); a non-manifold one is refused with a TopologyError naming `path` and the command
 // that writes a repaired copy keeping its attributes.
 Mesh manifold_mesh(const TriangleSoup& soup, const std::string& path);
-
-// The attributes of a soup with `n_original` vertices after from_soup repaired it into `repaired`
-// (report: what it changed, with face_origin).
-MeshAttributes repaired_attributes(const MeshAttributes& attributes, const TriangleSoup& repaired,
-                                   const BuildReport& report, int n_original);
 
 }  // namespace freeform
