@@ -38,12 +38,6 @@ void run(const ConvertOptions& opt) {
       fmt::print(stderr, "repair: ... {} faces dropped, {} vertices split in all\n", report.dropped_faces,
                  report.split_vertices);
     if (!lost.empty()) fmt::print(stderr, "repair: {}\n", lost);
-    // Their readers weld vertices at equal positions (STL has no indices; glTF's primitives share none).
-    if (report.added_vertices > 0 && (wo.format == MeshFormat::Stl || wo.format == MeshFormat::Gltf))
-      fmt::print(stderr,
-                 "note: {} is {}, whose reading joins vertices at equal positions again: read back it is not "
-                 "manifold (OBJ, OFF and PLY keep the split)\n",
-                 opt.out, format_name(wo.format));
   }
   try {
     for (const std::string& d : write_mesh(opt.out, read, read.soup.positions, wo))

@@ -175,6 +175,35 @@ TEST(Repair, RefusesToLeaveNoFace) {
   }
 }
 
+// STL and glTF store floats and weld corners at equal positions on reading: a repaired file's
+// split copies, and points apart by less than a float's precision, come back joined. Writing
+// says so, and the count is what their readers actually join.
+TEST(Repair, FormatsThatJoinEqualPositionsSayTheSplitIsLost) {
+  ReadResult r = read_file_mem(MeshFormat::Obj, kBowtieObj, "bowtie.obj");
+  std::string lost;
+  repair(r, "bowtie.obj", lost);
+  for (const char* path : {"fixed.stl", "fixed.glb"}) {
+    const MeshBytes bytes = mesh_bytes(path, r, r.soup.positions);
+    EXPECT_THAT(bytes.dropped, ::testing::Contains(::testing::HasSubstr("separate vertices at equal positions: 1 ")))
+        << path;
+    const ReadResult back = read_file_mem(format_from_path(path), bytes.data, path);
+    EXPECT_EQ(back.soup.positions.size(), r.soup.positions.size() - 1) << path;
+    EXPECT_THROW(Mesh::from_soup(back.soup), TopologyError) << path;
+  }
+  for (const char* path : {"fixed.obj", "fixed.off", "fixed.ply"}) {
+    const MeshBytes bytes = mesh_bytes(path, r, r.soup.positions);
+    EXPECT_THAT(bytes.dropped, ::testing::Not(::testing::Contains(::testing::HasSubstr("equal positions")))) << path;
+  }
+  // Apart as doubles, one float: joined too. Moved apart by a deformation: kept.
+  std::vector<Vec3> moved = r.soup.positions;
+  moved[6] += Vec3(1e-12, 0.0, 0.0);
+  EXPECT_THAT(mesh_bytes("a.stl", r, moved).dropped, ::testing::Contains(::testing::HasSubstr("positions: 1 ")));
+  moved[6] += Vec3(1e-3, 0.0, 0.0);
+  EXPECT_THAT(mesh_bytes("a.stl", r, moved).dropped,
+              ::testing::Not(::testing::Contains(::testing::HasSubstr("equal positions"))));
+  EXPECT_EQ(read_file_mem(MeshFormat::Stl, mesh_bytes("a.stl", r, moved).data, "a.stl").soup.positions.size(), 7u);
+}
+
 TEST(Repair, ManifoldFileIsUntouched) {
   ReadResult r = read_file_mem(MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n", "tri.obj");
   const auto source = r.source;

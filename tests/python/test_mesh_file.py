@@ -208,3 +208,9 @@ def test_repair_splits_a_vertex_and_keeps_texture_coordinates(tmp_path):
     freeform.write_mesh_file(out, f, f.mesh.vertices)
     back = freeform.read_mesh_file(out)  # manifold now: no repair needed
     assert back.mesh.n_vertices == 6 and back.uv is not None
+    # STL's reader joins the copy with its origin again: the write says so.
+    stl = tmp_path / "fixed.stl"
+    dropped = freeform.write_mesh_file(stl, f, f.mesh.vertices)
+    assert any("separate vertices at equal positions: 1 " in d for d in dropped)
+    with pytest.raises(freeform.TopologyError):
+        freeform.read_mesh_file(stl)

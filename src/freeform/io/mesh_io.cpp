@@ -5,10 +5,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
+#include <bit>
 #include <cctype>
 #include <cmath>
-#include <limits>
+#include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <optional>
 
 namespace freeform {
@@ -125,6 +129,24 @@ void check_positions(const std::string& path, MeshFormat format, std::span<const
                            (std::isfinite(c) ? " is beyond the single precision of STL" : " is not finite"));
 }
 
+// Vertices of faces that share their single-precision position with an earlier one. STL and
+// glTF store coordinates as floats and their readers weld corners at equal positions (weld.h),
+// so such vertices come back as one: a repaired file's split copies, or points closer than a
+// float's precision.
+std::size_t vertices_welded_on_reading(const TriangleSoup& soup) {
+  std::vector<char> used(soup.positions.size(), 0);
+  for (const auto& f : soup.faces)
+    for (const int v : f) used[static_cast<std::size_t>(v)] = 1;
+  // The float bits, -0 as +0 (the readers weld both).
+  const auto bits = [](double c) { return std::bit_cast<std::uint32_t>(static_cast<float>(c) + 0.0f); };
+  std::vector<std::array<std::uint32_t, 3>> keys;
+  for (std::size_t v = 0; v < soup.positions.size(); ++v)
+    if (used[v])
+      keys.push_back({bits(soup.positions[v].x()), bits(soup.positions[v].y()), bits(soup.positions[v].z())});
+  std::sort(keys.begin(), keys.end());
+  return static_cast<std::size_t>(keys.end() - std::unique(keys.begin(), keys.end()));
+}
+
 bool has_extension(const std::string& path, std::string_view ext) {
   return lower(std::filesystem::path(path).extension().string()) == ext;
 }
@@ -132,6 +154,12 @@ bool has_extension(const std::string& path, std::string_view ext) {
 // A new file of `format` from the soup and what it can hold of the attributes.
 std::string new_file(MeshFormat format, const std::string& path, const TriangleSoup& soup, const MeshAttributes& a,
                      std::optional<bool> binary, std::vector<std::string>& dropped) {
+  if (format == MeshFormat::Stl || format == MeshFormat::Gltf)
+    if (const std::size_t n = vertices_welded_on_reading(soup); n > 0)
+      dropped.push_back(
+          fmt::format("separate vertices at equal positions: {} ({}'s reader joins them; OBJ, OFF and PLY "
+                      "keep them apart)",
+                      n, format_name(format)));
   switch (format) {
     case MeshFormat::Obj:
       return write_obj(soup, a, dropped);
