@@ -159,7 +159,7 @@ std::string new_file(MeshFormat format, const std::string& path, const TriangleS
       dropped.push_back(
           fmt::format("separate vertices at equal positions: {} ({}'s reader joins them; OBJ, OFF and PLY "
                       "keep them apart)",
-                      n, format_name(format)));
+                      n, format == MeshFormat::Stl ? "STL" : "glTF"));
   switch (format) {
     case MeshFormat::Obj:
       return write_obj(soup, a, dropped);
