@@ -140,7 +140,14 @@ TEST_P(BoxTextured, SamePositionsGiveTheSameFile) {
   const ReadResult r = read(path());
   std::vector<std::pair<std::string, std::string>> companions;
   const std::string data = r.source->rewrite(r, r.soup.positions, companions, "/nonexistent/out" + path().extension().string());
-  EXPECT_TRUE(companions.empty());
+  // In another folder, the files the input names beside itself come along, bytes and names kept.
+  for (const auto& [name, bytes] : companions)
+    EXPECT_EQ(bytes, read_file((path().parent_path() / name).string())) << name;
+  EXPECT_EQ(companions.size(),
+            path().extension() == ".gltf" &&
+                    json_of(read_file(path().string()))["buffers"][0]["uri"].get<std::string>().rfind("data:", 0) != 0
+                ? 2u
+                : 0u);
   const std::string in = read_file(path().string());
   EXPECT_EQ(json_of(data), json_of(in));
   if (r.source->binary()) {
@@ -169,10 +176,11 @@ TEST_P(BoxTextured, MovedPositionsAreWrittenInTheNodeFrame) {
   } else if (uri.rfind("data:", 0) == 0) {
     EXPECT_TRUE(companions.empty());
     EXPECT_EQ(uri.rfind("data:application/octet-stream;base64,", 0), 0u);
-  } else {
-    ASSERT_EQ(companions.size(), 1u);
+  } else {  // the patched buffer, and the texture the input has beside it
+    ASSERT_EQ(companions.size(), 2u);
     EXPECT_EQ(companions[0].first, "moved.bin");
     EXPECT_EQ(uri, "moved.bin");
+    EXPECT_EQ(companions[1].first, "CesiumLogoFlat.png");
   }
   const ReadResult back = read(out);
   ASSERT_EQ(back.soup.positions.size(), 8u);
@@ -241,6 +249,35 @@ std::vector<std::string> files_in(const fs::path& dir) {
   return out;
 }
 
+// Written into another folder, the .gltf's relative uris would name files that are not there
+// (found converting assimp-testmodels' glTF samples: the output did not read back). The
+// input's buffer and texture come along; an unrelated file of the same name there is kept.
+TEST(GltfRewrite, AnotherFolderCarriesTheInputsFiles) {
+  REQUIRE_MODELS();
+  ScratchDir dir;
+  const fs::path in = kModels / "BoxTextured-glTF/BoxTextured.gltf";
+  write_file_atomic((dir / "CesiumLogoFlat.png").string(), "not the texture");
+  const ReadResult r = read(in);
+  const std::vector<std::string> dropped = write_mesh((dir / "box.gltf").string(), r, r.soup.positions);
+  EXPECT_TRUE(dropped.empty());
+  EXPECT_EQ(files_in(dir.path()),
+            (std::vector<std::string>{"BoxTextured0.bin", "CesiumLogoFlat-1.png", "CesiumLogoFlat.png", "box.gltf"}));
+  EXPECT_EQ(read_file((dir / "CesiumLogoFlat.png").string()), "not the texture");
+  const Json j = json_of(read_file((dir / "box.gltf").string()));
+  EXPECT_EQ(j["images"][0]["uri"], "CesiumLogoFlat-1.png");
+  EXPECT_EQ(read_file((dir / "CesiumLogoFlat-1.png").string()),
+            read_file((in.parent_path() / "CesiumLogoFlat.png").string()));
+  EXPECT_EQ(read_file((dir / "BoxTextured0.bin").string()),
+            read_file((in.parent_path() / "BoxTextured0.bin").string()));
+  const ReadResult back = read(dir / "box.gltf");
+  EXPECT_EQ(back.soup.positions, r.soup.positions);
+  // Back beside its files, nothing is carried: the same bytes as the input's JSON.
+  std::vector<std::pair<std::string, std::string>> companions;
+  EXPECT_EQ(back.source->rewrite(back, back.soup.positions, companions, (dir / "again.gltf").string()),
+            read_file((dir / "box.gltf").string()));
+  EXPECT_TRUE(companions.empty());
+}
+
 // `back`, read from the converted file, has the positions `expected` and the uv and normals
 // of `r` (moved by `t`).
 void expect_converted(const ReadResult& r, const ReadResult& back, const Eigen::Affine3d& t) {
@@ -265,7 +302,10 @@ TEST_P(GltfConvert, ExternalBinGltfToGlb) {
   const Eigen::Affine3d t(Eigen::Translation3d(GetParam() ? Vec3(1, 2, 3) : Vec3::Zero()));
   const std::vector<std::string> dropped = write_mesh((dir / "out.glb").string(), r, transformed(r.soup.positions, t));
   EXPECT_TRUE(dropped.empty());
-  EXPECT_EQ(files_in(dir.path()), std::vector<std::string>{"out.glb"});  // no companion: buffer 0 is the BIN chunk
+  // No .bin: buffer 0 is the BIN chunk. The texture the input has beside it comes along.
+  EXPECT_EQ(files_in(dir.path()), (std::vector<std::string>{"CesiumLogoFlat.png", "out.glb"}));
+  EXPECT_EQ(read_file((dir / "CesiumLogoFlat.png").string()),
+            read_file((in.parent_path() / "CesiumLogoFlat.png").string()));
   const std::string data = read_file((dir / "out.glb").string());
   ASSERT_TRUE(gltf_detail::is_glb(data));
   const gltf_detail::Glb glb = gltf_detail::parse_glb(data, "out.glb");

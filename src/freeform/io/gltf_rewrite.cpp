@@ -16,6 +16,8 @@
 #include <filesystem>
 #include <limits>
 #include <optional>
+#include <set>
+#include <system_error>
 
 namespace freeform::gltf_detail {
 namespace {
@@ -136,6 +138,7 @@ class Rewriter {
         json_["buffers"][b]["uri"] = f_.buffers[b].data_prefix + base64_encode(*patched_[b]);
       }
     }
+    if (!same_folder()) carry_external_files(to_file, embed, companions);
     const std::string text = dump_like(json_, f_.json_text);
     if (!glb_out) return text;
     // 12 bytes of header, 8 per chunk, and up to 3 of padding per chunk.
@@ -243,16 +246,85 @@ class Rewriter {
 
   // "<output stem><suffix>.bin", numbered further if that names a file the input or the output
   // refers to (never overwrite a buffer or image still in use).
-  std::string companion_name(const std::string& suffix) const {
+  std::string companion_name(const std::string& suffix) {
     const fs::path out(out_path_);
-    const std::string stem = out.stem().empty() ? std::string("mesh") : out.stem().string();
+    return free_name((out.stem().empty() ? std::string("mesh") : out.stem().string()) + suffix, ".bin");
+  }
+
+  // stem + ext beside the output, "stem-1" + ext and so on if that is taken: by the output, a
+  // file the input refers to, another companion, or a different file already there.
+  std::string free_name(const std::string& stem, const std::string& ext, const std::string* content = nullptr) {
+    const fs::path folder = fs::path(out_path_).parent_path();
     for (int k = 0;; ++k) {
-      const std::string name = stem + suffix + (k == 0 ? std::string() : fmt::format("-{}", k)) + ".bin";
-      if (!clashes((out.parent_path() / name).string())) return name;
+      const std::string name = stem + (k == 0 ? std::string() : fmt::format("-{}", k)) + ext;
+      const std::string path = (folder / name).string();
+      if (taken_.count(name) || clashes(path, content != nullptr)) continue;
+      std::error_code ec;
+      if (content && fs::exists(path, ec) && !same_bytes(path, *content)) continue;
+      taken_.insert(name);
+      return name;
     }
   }
 
-  bool clashes(const std::string& candidate) const {
+  static bool same_bytes(const std::string& path, const std::string& content) {
+    try {
+      return read_file(path) == content;
+    } catch (const IoError&) {
+      return false;
+    }
+  }
+
+  // Whether the output lies in the input's folder, where the input's relative uris still resolve.
+  bool same_folder() const {
+    std::error_code ec;
+    const fs::path in = f_.folder.empty() ? fs::path(".") : fs::path(f_.folder);
+    const fs::path out = fs::path(out_path_).parent_path().empty() ? fs::path(".") : fs::path(out_path_).parent_path();
+    return fs::equivalent(in, out, ec) || (ec && fs::weakly_canonical(in, ec) == fs::weakly_canonical(out, ec));
+  }
+
+  // The input's files that a relative uri names (buffers the output does not write anew, and
+  // images) are not beside an output in another folder: they become companions there, under
+  // their own names where free, and the uris name those. A file that cannot be read (one no
+  // mesh needed) keeps its uri: the input's was dangling too.
+  void carry_external_files(const std::vector<char>& to_file, bool embed,
+                            std::vector<std::pair<std::string, std::string>>& companions) {
+    for (std::size_t b = 0; b < f_.buffers.size(); ++b) {
+      if (to_file[b] || (b == 0 && embed) || f_.buffers[b].origin != Buffer::Origin::File) continue;
+      carry(json_["buffers"][b], f_.buffers[b].loaded ? &f_.buffers[b].bytes : nullptr, companions);
+    }
+    if (json_.contains("images"))
+      for (Json& image : json_["images"]) carry(image, nullptr, companions);
+  }
+
+  // One buffer or image: its bytes (`read`, or its file's) under a free name beside the output.
+  void carry(Json& item, const std::string* read, std::vector<std::pair<std::string, std::string>>& companions) {
+    std::string name, data;
+    if (!relative_file(item, name)) return;
+    if (read) {
+      data = *read;
+    } else {
+      try {
+        data = read_file((fs::path(f_.folder) / name).string());
+      } catch (const IoError&) {
+        return;
+      }
+    }
+    const fs::path original(name);
+    const std::string copy = free_name(original.stem().string(), original.extension().string(), &data);
+    item["uri"] = uri_encode(copy);
+    companions.emplace_back(copy, std::move(data));
+  }
+
+  // The file name a uri refers to, when it is a relative path (not a data: URI, remote or absolute).
+  static bool relative_file(const Json& item, std::string& name) {
+    if (!item.contains("uri") || !item["uri"].is_string()) return false;
+    const std::string uri = item["uri"].get<std::string>();
+    return !is_data_uri(uri) && uri_decode(uri, name) && !is_remote_or_absolute(name);
+  }
+
+  // A carried file may take the name its original has beside the input (never the original
+  // itself): the output's folder is another one.
+  bool clashes(const std::string& candidate, bool carried) const {
     if (same_file(candidate, out_path_)) return true;
     for (const char* list : {"buffers", "images"}) {
       if (!f_.json.contains(list)) continue;
@@ -262,7 +334,7 @@ class Rewriter {
             !uri_decode(item["uri"].get<std::string>(), name) || is_remote_or_absolute(name))
           continue;
         if (same_file(candidate, (fs::path(f_.folder) / name).string()) ||
-            same_file(candidate, (fs::path(out_path_).parent_path() / name).string()))
+            (!carried && same_file(candidate, (fs::path(out_path_).parent_path() / name).string())))
           return true;
       }
     }
@@ -277,6 +349,7 @@ class Rewriter {
   std::vector<std::optional<std::string>> patched_;  // copies of the buffers written to
   std::optional<std::string> unread_;                 // buffer 0, when the reader had not read it
   std::vector<char> moved_;
+  std::set<std::string> taken_;  // companion names chosen
 };
 
 }  // namespace
