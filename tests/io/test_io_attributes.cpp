@@ -183,9 +183,10 @@ TEST(ObjAttributes, AssimpTestModelsRoundTrip) {
     const std::string data = read_file(path);
     const ReadResult r = read_mesh(path);
     ASSERT_TRUE(r.source);
-    EXPECT_EQ(rewrite(r, r.soup.positions, "o.obj"), data);
+    const std::string beside = (dir / "o.obj").string();  // in its folder: material libraries as named
+    EXPECT_EQ(rewrite(r, r.soup.positions, beside), data);
     const std::vector<Vec3> p = moved(r.soup.positions);
-    const std::string out = rewrite(r, p, "o.obj");
+    const std::string out = rewrite(r, p, beside);
     const std::vector<std::string> a = lines_of(data), b = lines_of(out);
     ASSERT_EQ(a.size(), b.size());
     for (std::size_t i = 0; i < a.size(); ++i)

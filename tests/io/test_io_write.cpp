@@ -87,6 +87,27 @@ TEST(WriteMesh, StlRoundTripAsFloat) {
   }
 }
 
+// An OBJ's material libraries are named relative to its folder: written into another folder,
+// the names lead from there to the same files (a material viewer finds them), the rest of the
+// file byte for byte; in its own folder nothing changes.
+TEST(WriteMesh, ObjInAnotherFolderStillFindsItsMaterialLibraries) {
+  ScratchDir dir;
+  fs::create_directories(dir / "in" / "lib");
+  fs::create_directories(dir / "out");
+  const std::string obj = "mtllib a.mtl lib/b.mtl /abs/c.mtl\r\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n";
+  write_file_atomic((dir / "in" / "a.obj").string(), obj);
+  write_file_atomic((dir / "in" / "a.mtl").string(), "newmtl red\n");
+  write_file_atomic((dir / "in" / "lib" / "b.mtl").string(), "newmtl blue\n");
+  const ReadResult r = read_mesh((dir / "in" / "a.obj").string());
+  write_mesh((dir / "out" / "a.obj").string(), r, r.soup.positions);
+  const std::string moved = read_file((dir / "out" / "a.obj").string());
+  EXPECT_EQ(moved.substr(moved.find("\r\n")), obj.substr(obj.find("\r\n")));
+  EXPECT_EQ(moved.substr(0, moved.find("\r\n")), "mtllib ../in/a.mtl ../in/lib/b.mtl /abs/c.mtl");
+  EXPECT_EQ(read_file((dir / "out" / "../in/lib/b.mtl").string()), "newmtl blue\n");
+  write_mesh((dir / "in" / "b.obj").string(), r, r.soup.positions);
+  EXPECT_EQ(read_file((dir / "in" / "b.obj").string()), obj);
+}
+
 TEST(WriteMesh, FormatFromExtensionAndOverride) {
   ScratchDir dir;
   const TriangleSoup soup = tetra();

@@ -164,6 +164,11 @@ bool same_file(const std::string& a, const std::string& b) {
   return !ec && ca == cb;
 }
 
+std::string folder_of(const std::string& path) {
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  return folder.empty() ? std::string(".") : folder.string();
+}
+
 PreparedFile::PreparedFile(const std::string& path, std::string_view data) : path_(path) {
   namespace fs = std::filesystem;
   if (is_special_file(path)) {

@@ -24,6 +24,9 @@ bool is_special_file(const std::string& path);
 // does not exist and their normalized paths differ.
 bool same_file(const std::string& a, const std::string& b);
 
+// The folder `path` lies in ("." for a bare name): where the file's relative references resolve.
+std::string folder_of(const std::string& path);
+
 // Two-phase atomic write: the constructor writes `data` to a temporary file next to the target
 // and flushes it; commit() renames it over the target. Uncommitted temporaries are removed by
 // the destructor, and by SIGINT / SIGTERM / SIGHUP while they exist (when those signals have

@@ -275,12 +275,7 @@ class Rewriter {
   }
 
   // Whether the output lies in the input's folder, where the input's relative uris still resolve.
-  bool same_folder() const {
-    std::error_code ec;
-    const fs::path in = f_.folder.empty() ? fs::path(".") : fs::path(f_.folder);
-    const fs::path out = fs::path(out_path_).parent_path().empty() ? fs::path(".") : fs::path(out_path_).parent_path();
-    return fs::equivalent(in, out, ec) || (ec && fs::weakly_canonical(in, ec) == fs::weakly_canonical(out, ec));
-  }
+  bool same_folder() const { return same_file(f_.folder.empty() ? "." : f_.folder, folder_of(out_path_)); }
 
   // The input's files that a relative uri names (buffers the output does not write anew, and
   // images) are not beside an output in another folder: they become companions there, under

@@ -1,6 +1,8 @@
 // Wavefront OBJ: positions (and `v x y z r g b` colours), `vt`, `vn` and `f` with any corner
 // form; everything else (groups, materials, smoothing, comments) is kept by the FileSource.
+#include "freeform/io/file_util.h"
 #include "freeform/io/mesh_io.h"
+#include "freeform/io/obj_libraries.h"
 #include "freeform/io/text_patch.h"
 #include "freeform/io/text_scan.h"
 
@@ -93,6 +95,7 @@ class ObjReader {
       face(tokens);
     } else {
       other_.saw(keyword);
+      has_libraries_ = has_libraries_ || keyword == "mtllib";
     }
     // vp, g, o, s, usemtl, mtllib, l, p, comments, ...: kept by the source, not read.
   }
@@ -116,9 +119,14 @@ class ObjReader {
       colors_.resize(out_.soup.positions.size() * 3, 1.0);
       a.vertex.push_back({"color", 3, std::move(colors_)});
     }
+    io_detail::Relink relink;
+    if (has_libraries_)
+      relink = [folder = folder_of(name_)](std::string text, const std::string& out_path) {
+        return io_detail::relink_material_libraries(std::move(text), folder, out_path);
+      };
     if (rewritable_)
       out_.source = io_detail::make_text_source(file_bytes(data_, out_), std::move(position_runs_),
-                                                std::move(normal_runs_), other_.names());
+                                                std::move(normal_runs_), other_.names(), std::move(relink));
   }
 
  private:
@@ -269,6 +277,7 @@ class ObjReader {
   std::vector<int> uv_index_, normal_index_;
   std::vector<double> colors_;
   bool has_uv_ = false, has_normal_ = false, has_color_ = false;
+  bool has_libraries_ = false;  // an `mtllib` statement
   bool rewritable_ = true;
   OtherStatements other_;
   std::vector<io_detail::TextSpan> position_runs_, normal_runs_;

@@ -40,21 +40,25 @@ namespace {
 class TextSource final : public FileSource {
  public:
   TextSource(std::shared_ptr<const std::string> data, std::vector<TextSpan> positions, std::vector<TextSpan> normals,
-             std::string kept_only)
-      : data_(std::move(data)), positions_(std::move(positions)), normals_(std::move(normals)),
-        kept_only_(std::move(kept_only)) {}
+             std::string kept_only, Relink relink)
+      : data_(std::move(data)),
+        positions_(std::move(positions)),
+        normals_(std::move(normals)),
+        kept_only_(std::move(kept_only)),
+        relink_(std::move(relink)) {}
 
   std::string kept_only_by_rewrite() const override { return kept_only_; }
 
   std::string rewrite(const ReadResult& file, std::span<const Vec3> positions,
-                      std::vector<std::pair<std::string, std::string>>&, const std::string&) const override {
+                      std::vector<std::pair<std::string, std::string>>&, const std::string& out_path) const override {
     const std::vector<double> normals =
         recomputed_normals(file.attributes.polygons, file.attributes.normal, positions, file.soup.positions);
     std::vector<NumberRun> runs;
     runs.reserve(positions_.size() + normals_.size());
     add_runs(runs, positions_, positions.data()->data(), file.soup.positions.data()->data());
     add_runs(runs, normals_, normals.data(), file.attributes.normal.values.data());
-    return patch_numbers(*data_, std::move(runs));
+    std::string text = patch_numbers(*data_, std::move(runs));
+    return relink_ ? relink_(std::move(text), out_path) : text;
   }
 
  private:
@@ -62,14 +66,16 @@ class TextSource final : public FileSource {
   std::vector<TextSpan> positions_;           // one per vertex
   std::vector<TextSpan> normals_;             // one per normal row
   std::string kept_only_;
+  Relink relink_;
 };
 
 }  // namespace
 
 std::shared_ptr<const FileSource> make_text_source(std::shared_ptr<const std::string> data,
                                                    std::vector<TextSpan> positions, std::vector<TextSpan> normals,
-                                                   std::string kept_only) {
-  return std::make_shared<TextSource>(std::move(data), std::move(positions), std::move(normals), std::move(kept_only));
+                                                   std::string kept_only, Relink relink) {
+  return std::make_shared<TextSource>(std::move(data), std::move(positions), std::move(normals), std::move(kept_only),
+                                      std::move(relink));
 }
 
 }  // namespace freeform::io_detail

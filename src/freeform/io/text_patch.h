@@ -5,6 +5,7 @@
 #include "freeform/io/mesh_attributes.h"
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -40,11 +41,14 @@ inline TextSpan span_of(std::string_view data, std::string_view first, std::stri
           static_cast<std::size_t>(last.data() + last.size() - data.data())};
 }
 
+// Adjusts a rewritten text to the folder of `out_path` (OBJ: its material libraries' paths).
+using Relink = std::function<std::string(std::string text, const std::string& out_path)>;
+
 // The FileSource of a text file whose positions and normals are rows of three numbers at known
-// spans (OBJ, OFF): a rewrite patches them and copies the rest. `kept_only` names what only a
-// rewrite keeps (FileSource::kept_only_by_rewrite).
+// spans (OBJ, OFF): a rewrite patches them and copies the rest, then applies `relink` if set.
+// `kept_only` names what only a rewrite keeps (FileSource::kept_only_by_rewrite).
 std::shared_ptr<const FileSource> make_text_source(std::shared_ptr<const std::string> data,
                                                    std::vector<TextSpan> positions, std::vector<TextSpan> normals,
-                                                   std::string kept_only);
+                                                   std::string kept_only, Relink relink = {});
 
 }  // namespace freeform::io_detail
