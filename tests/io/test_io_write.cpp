@@ -108,6 +108,43 @@ TEST(WriteMesh, ObjInAnotherFolderStillFindsItsMaterialLibraries) {
   EXPECT_EQ(read_file((dir / "in" / "b.obj").string()), obj);
 }
 
+// The same for a PLY's texture as MeshLab names it in the header, in either encoding (a name
+// may hold blanks: it is the rest of the comment line).
+TEST(WriteMesh, PlyInAnotherFolderStillFindsItsTexture) {
+  ScratchDir dir;
+  fs::create_directories(dir / "in");
+  fs::create_directories(dir / "out");
+  const std::string head =
+      "ply\nformat ascii 1.0\ncomment TextureFile tex dir/skin.png\r\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string body = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  write_file_atomic((dir / "in" / "a.ply").string(), head + body);
+  const ReadResult r = read_mesh((dir / "in" / "a.ply").string());
+  write_mesh((dir / "out" / "a.ply").string(), r, r.soup.positions);
+  std::string expected = head;
+  expected.replace(expected.find("tex dir"), 3, "../in/tex");
+  EXPECT_EQ(read_file((dir / "out" / "a.ply").string()), expected + body);
+  write_mesh((dir / "in" / "b.ply").string(), r, r.soup.positions);
+  EXPECT_EQ(read_file((dir / "in" / "b.ply").string()), head + body);
+  // Binary: the header grows, the body follows it unchanged.
+  std::string binary = head;
+  binary.replace(binary.find("ascii"), 5, "binary_little_endian");
+  const std::string header_only = binary;
+  for (const float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f})
+    binary.append(reinterpret_cast<const char*>(&v), 4);
+  binary += '\x03';
+  for (const int i : {0, 1, 2}) binary.append(reinterpret_cast<const char*>(&i), 4);
+  write_file_atomic((dir / "in" / "c.ply").string(), binary);
+  const ReadResult c = read_mesh((dir / "in" / "c.ply").string());
+  write_mesh((dir / "out" / "c.ply").string(), c, c.soup.positions);
+  const std::string out_bytes = read_file((dir / "out" / "c.ply").string());
+  std::string expected_header = header_only;
+  expected_header.replace(expected_header.find("tex dir"), 3, "../in/tex");
+  EXPECT_EQ(out_bytes.substr(0, expected_header.size()), expected_header);
+  EXPECT_EQ(out_bytes.substr(header_only.size() + 6), binary.substr(header_only.size()));
+  EXPECT_EQ(read_mesh((dir / "out" / "c.ply").string()).soup.positions, r.soup.positions);
+}
+
 TEST(WriteMesh, FormatFromExtensionAndOverride) {
   ScratchDir dir;
   const TriangleSoup soup = tetra();

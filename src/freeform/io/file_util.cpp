@@ -169,6 +169,17 @@ std::string folder_of(const std::string& path) {
   return folder.empty() ? std::string(".") : folder.string();
 }
 
+std::string reference_from(std::string_view name, const std::string& from_folder, const std::string& to_folder) {
+  namespace fs = std::filesystem;
+  const fs::path original(name);
+  if (original.is_absolute()) return std::string(name);
+  std::error_code ec;
+  const fs::path target = fs::absolute(fs::path(from_folder) / original, ec).lexically_normal();
+  if (ec) return std::string(name);
+  const fs::path relative = fs::relative(target, fs::absolute(to_folder, ec).lexically_normal(), ec);
+  return ec || relative.empty() ? std::string(name) : relative.generic_string();
+}
+
 PreparedFile::PreparedFile(const std::string& path, std::string_view data) : path_(path) {
   namespace fs = std::filesystem;
   if (is_special_file(path)) {

@@ -27,6 +27,12 @@ bool same_file(const std::string& a, const std::string& b);
 // The folder `path` lies in ("." for a bare name): where the file's relative references resolve.
 std::string folder_of(const std::string& path);
 
+// How a file that `name` refers to from `from_folder` is named from `to_folder`: the relative
+// path between them ('/'-separated); `name` itself where it is absolute or no such path exists.
+// A file written into another folder than its input's keeps its references to other files
+// (OBJ material libraries, PLY texture comments) working this way.
+std::string reference_from(std::string_view name, const std::string& from_folder, const std::string& to_folder);
+
 // Two-phase atomic write: the constructor writes `data` to a temporary file next to the target
 // and flushes it; commit() renames it over the target. Uncommitted temporaries are removed by
 // the destructor, and by SIGINT / SIGTERM / SIGHUP while they exist (when those signals have

@@ -20,20 +20,19 @@ bool has_blank(const std::string& s) {
   return false;
 }
 
-// The name by which the file `name` (relative to in_folder) is found from out_folder.
-std::string relinked(std::string_view name, const fs::path& in_folder, const fs::path& out_folder) {
-  const fs::path original(name);
-  if (original.is_absolute()) return std::string(name);
+// The name by which the library `name` (relative to in_folder) is found from out_folder: a
+// relative path, or absolute where that would hold a blank (blanks separate OBJ's names).
+std::string relinked(std::string_view name, const std::string& in_folder, const std::string& out_folder) {
+  const std::string relative = reference_from(name, in_folder, out_folder);
+  if (!has_blank(relative)) return relative;
   std::error_code ec;
-  const fs::path target = fs::absolute(in_folder / original, ec).lexically_normal();
-  if (ec) return std::string(name);
-  const fs::path relative = fs::relative(target, out_folder, ec);
-  if (!ec && !relative.empty() && !has_blank(relative.generic_string())) return relative.generic_string();
-  return has_blank(target.generic_string()) ? std::string(name) : target.generic_string();
+  const std::string absolute =
+      fs::absolute(fs::path(in_folder) / fs::path(name), ec).lexically_normal().generic_string();
+  return ec || has_blank(absolute) ? std::string(name) : absolute;
 }
 
 // One `mtllib` statement's names relinked; any other line as it is.
-std::string relinked_line(std::string_view line, const fs::path& in_folder, const fs::path& out_folder) {
+std::string relinked_line(std::string_view line, const std::string& in_folder, const std::string& out_folder) {
   std::size_t i = 0;
   while (i < line.size() && blank(line[i])) ++i;
   constexpr std::string_view kKeyword = "mtllib";
@@ -59,15 +58,13 @@ std::string relinked_line(std::string_view line, const fs::path& in_folder, cons
 std::string relink_material_libraries(std::string text, const std::string& in_folder, const std::string& out_path) {
   const std::string out_folder = folder_of(out_path);
   if (same_file(in_folder.empty() ? "." : in_folder, out_folder)) return text;
-  std::error_code ec;
-  const fs::path out_absolute = fs::absolute(out_folder, ec).lexically_normal();
   std::string out;
   out.reserve(text.size());
   std::size_t begin = 0;
   while (begin < text.size()) {
     std::size_t end = text.find('\n', begin);
     end = end == std::string::npos ? text.size() : end + 1;
-    out += relinked_line(std::string_view(text).substr(begin, end - begin), in_folder, out_absolute);
+    out += relinked_line(std::string_view(text).substr(begin, end - begin), in_folder, out_folder);
     begin = end;
   }
   return out;

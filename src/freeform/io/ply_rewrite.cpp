@@ -1,6 +1,7 @@
 // A PLY file as read, rewritten with new positions: only the vertex element's x, y, z and
 // nx, ny, nz values change, in the file's own encoding; everything else stays byte for byte.
 #include "freeform/common/error.h"
+#include "freeform/io/file_util.h"
 #include "freeform/io/mesh_io.h"
 #include "freeform/io/ply_header.h"
 #include "freeform/io/ply_layout.h"
@@ -8,7 +9,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <optional>
+#include <string_view>
 #include <utility>
 
 namespace freeform::ply_detail {
@@ -56,6 +59,7 @@ class PlySource final : public FileSource {
       has_normals_ = has_normals_ || f.role == Role::NX;
     }
     kept_only_ = not_exposed(header, layout);
+    header_end_ = header.body_offset;
     data_ = std::move(data);
   }
 
@@ -73,13 +77,40 @@ class PlySource final : public FileSource {
       normals = recomputed_normals(file.attributes.polygons, file.attributes.normal, positions, old);
     }
     if (normals.size() != 3 * vertex_count_) normals.clear();  // not this file's attributes: keep its normals
-    return encoding_ == Encoding::Ascii ? rewrite_ascii(positions, normals) : rewrite_binary(positions, normals);
+    return relink_texture_files(
+        encoding_ == Encoding::Ascii ? rewrite_ascii(positions, normals) : rewrite_binary(positions, normals),
+        out_path);
   }
 
   bool binary() const override { return encoding_ != Encoding::Ascii; }
   std::string kept_only_by_rewrite() const override { return kept_only_; }
 
  private:
+  // MeshLab names a texture in the header ("comment TextureFile name"), relative to the file's
+  // folder: written into another folder, the name becomes the path from there (file_util.h).
+  std::string relink_texture_files(std::string out, const std::string& out_path) const {
+    constexpr std::string_view kTexture = "comment TextureFile ";
+    const std::string from = folder_of(name_), to = folder_of(out_path);
+    if (std::string_view(out).substr(0, header_end_).find(kTexture) == std::string_view::npos || same_file(from, to))
+      return out;
+    std::string header;
+    for (std::size_t begin = 0; begin < header_end_;) {
+      const std::size_t newline = out.find('\n', begin);
+      const std::size_t end = newline == std::string::npos ? header_end_ : std::min(newline + 1, header_end_);
+      const std::string_view line = std::string_view(out).substr(begin, end - begin);
+      if (line.starts_with(kTexture)) {
+        std::size_t n = line.size();
+        while (n > kTexture.size() && (line[n - 1] == '\n' || line[n - 1] == '\r')) --n;
+        header.append(kTexture).append(reference_from(line.substr(kTexture.size(), n - kTexture.size()), from, to));
+        header.append(line.substr(n));
+      } else {
+        header.append(line);
+      }
+      begin = end;
+    }
+    return header + out.substr(header_end_);
+  }
+
   // The value property `role` of vertex v gets, or nullopt to keep the file's.
   static std::optional<double> new_value(Role role, std::size_t v, std::span<const Vec3> positions,
                                          const std::vector<double>& normals) {
@@ -156,6 +187,7 @@ class PlySource final : public FileSource {
   std::vector<Role> roles_;      // per vertex property: X..Z, NX..NZ or Skip
   bool has_normals_ = false;
   std::string kept_only_;
+  std::size_t header_end_ = 0;  // where the body starts in data_
 };
 
 }  // namespace
