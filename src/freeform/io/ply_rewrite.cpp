@@ -98,9 +98,9 @@ class PlySource final : public FileSource {
       const std::size_t newline = out.find('\n', begin);
       const std::size_t end = newline == std::string::npos ? header_end_ : std::min(newline + 1, header_end_);
       const std::string_view line = std::string_view(out).substr(begin, end - begin);
-      if (line.starts_with(kTexture)) {
-        std::size_t n = line.size();
-        while (n > kTexture.size() && (line[n - 1] == '\n' || line[n - 1] == '\r')) --n;
+      std::size_t n = line.size();
+      while (n > 0 && (line[n - 1] == '\n' || line[n - 1] == '\r')) --n;
+      if (line.starts_with(kTexture) && n > kTexture.size()) {
         header.append(kTexture).append(reference_from(line.substr(kTexture.size(), n - kTexture.size()), from, to));
         header.append(line.substr(n));
       } else {

@@ -32,7 +32,7 @@ struct BuildReport {
   int split_vertices = 0;     // original vertices that were split into several
   int added_vertices = 0;     // new vertices created by splitting (appended after the originals)
   std::vector<int> origin;    // for each added vertex (index n_original + i): the vertex it copies
-  std::vector<int> face_origin;      // for each face of the mesh: its face in the soup
+  std::vector<int> face_origin;      // with repair: for each face of the mesh, its face in the soup
   std::vector<std::string> changes;  // one human-readable line per change (capped)
   bool changed() const { return dropped_faces > 0 || added_vertices > 0; }
 };
