@@ -15,7 +15,6 @@
 #include <sys/resource.h>
 
 #include <algorithm>
-#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -143,11 +142,7 @@ void run(const DeformOptions& opt) {
   try {
     MeshBytes bytes = mesh_bytes(opt.out, read, out_positions, wo);
     for (const std::string& d : bytes.dropped) fmt::print(stderr, "note: {} cannot hold the input's {}\n", opt.out, d);
-    const std::filesystem::path out_folder = std::filesystem::path(opt.out).parent_path();
-    std::vector<std::unique_ptr<PreparedFile>> files;
-    for (const auto& [name, data] : bytes.companions)
-      files.push_back(std::make_unique<PreparedFile>((out_folder / name).string(), data));
-    files.push_back(std::make_unique<PreparedFile>(opt.out, bytes.data));
+    std::vector<std::unique_ptr<PreparedFile>> files = prepare_mesh_files(opt.out, bytes);
     if (!opt.report.empty()) files.push_back(std::make_unique<PreparedFile>(opt.report, report.dump(2) + "\n"));
     for (const auto& f : files) f->commit();
   } catch (const Error& e) {

@@ -275,6 +275,20 @@ TEST(GltfRewrite, AnotherFolderCarriesTheInputsFiles) {
   EXPECT_TRUE(companions.empty());
 }
 
+// The companions are committed only once the file itself is prepared: a file that cannot be
+// written (here a link into a folder that does not exist) leaves nothing beside it.
+TEST(GltfRewrite, AFailedWriteLeavesNoCompanionBehind) {
+  REQUIRE_MODELS();
+  ScratchDir dir;
+  const ReadResult r = read(kModels / "BoxTextured-glTF/BoxTextured.gltf");
+  fs::create_symlink(dir / "missing/box.gltf", dir / "box.gltf");
+  EXPECT_THROW(write_mesh((dir / "box.gltf").string(), r, r.soup.positions), IoError);
+  EXPECT_EQ(files_in(dir.path()), (std::vector<std::string>{"box.gltf"}));
+  // The same write to a path that can be written carries both files.
+  (void)write_mesh((dir / "ok.gltf").string(), r, r.soup.positions);
+  EXPECT_EQ(files_in(dir.path()), (std::vector<std::string>{"BoxTextured0.bin", "CesiumLogoFlat.png", "box.gltf", "ok.gltf"}));
+}
+
 // `back`, read from the converted file, has the positions `expected` and the uv and normals
 // of `r` (moved by `t`).
 void expect_converted(const ReadResult& r, const ReadResult& back, const Eigen::Affine3d& t) {

@@ -214,10 +214,17 @@ MeshBytes mesh_bytes(const std::string& path, const ReadResult& file, std::span<
 std::vector<std::string> write_mesh(const std::string& path, const ReadResult& file, std::span<const Vec3> positions,
                                     const WriteOptions& options) {
   MeshBytes bytes = mesh_bytes(path, file, positions, options);
-  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
-  for (const auto& [name, data] : bytes.companions) write_file_atomic((folder / name).string(), data);
-  write_file_atomic(path, bytes.data);
+  for (const auto& f : prepare_mesh_files(path, bytes)) f->commit();
   return bytes.dropped;
+}
+
+std::vector<std::unique_ptr<PreparedFile>> prepare_mesh_files(const std::string& path, const MeshBytes& bytes) {
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  std::vector<std::unique_ptr<PreparedFile>> files;
+  for (const auto& [name, data] : bytes.companions)
+    files.push_back(std::make_unique<PreparedFile>((folder / name).string(), data));
+  files.push_back(std::make_unique<PreparedFile>(path, bytes.data));
+  return files;
 }
 
 void write_mesh(const std::string& path, const TriangleSoup& soup, const WriteOptions& options) {

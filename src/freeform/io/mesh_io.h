@@ -5,6 +5,7 @@
 // Writes are atomic: a temporary file in the target folder, renamed over the target.
 #pragma once
 
+#include "freeform/io/file_util.h"
 #include "freeform/io/mesh_attributes.h"
 #include "freeform/mesh/types.h"
 
@@ -69,7 +70,11 @@ struct MeshBytes {
 };
 MeshBytes mesh_bytes(const std::string& path, const ReadResult& file, std::span<const Vec3> positions,
                      const WriteOptions& options = {});
-// Writes the companions, then the file (each atomically); returns what was dropped.
+// The companions (beside `path`) and the file, each written to a temporary beside its target and
+// not yet committed: commit them in order once everything that goes with them is prepared, so
+// that a failure leaves every target as it was.
+std::vector<std::unique_ptr<PreparedFile>> prepare_mesh_files(const std::string& path, const MeshBytes& bytes);
+// Prepares all, then commits the companions and the file; returns what was dropped.
 std::vector<std::string> write_mesh(const std::string& path, const ReadResult& file,
                                     std::span<const Vec3> positions, const WriteOptions& options = {});
 
