@@ -286,7 +286,8 @@ TEST(GltfRewrite, AFailedWriteLeavesNoCompanionBehind) {
   EXPECT_EQ(files_in(dir.path()), (std::vector<std::string>{"box.gltf"}));
   // The same write to a path that can be written carries both files.
   (void)write_mesh((dir / "ok.gltf").string(), r, r.soup.positions);
-  EXPECT_EQ(files_in(dir.path()), (std::vector<std::string>{"BoxTextured0.bin", "CesiumLogoFlat.png", "box.gltf", "ok.gltf"}));
+  EXPECT_EQ(files_in(dir.path()),
+            (std::vector<std::string>{"BoxTextured0.bin", "CesiumLogoFlat.png", "box.gltf", "ok.gltf"}));
 }
 
 // `back`, read from the converted file, has the positions `expected` and the uv and normals
