@@ -1,12 +1,17 @@
 #!/usr/bin/env python3
 """Summarizes bench_gallery's JSON: per method the totals of folded edges and collapsed faces,
-the mean over cases of the support's compressive strain and halved area, unconverged runs, the slowest run, and per Freeform method the cases worse than the peer
+the mean over cases of the support's compressive strain and halved area, unconverged runs, the slowest run, the
+iterations, the runs over issue 37's time goal (a solve over 1 s at up to 10,000 free vertices, over 10 s above),
+and per Freeform method the cases worse than the peer
 (CGAL ARAP) by more than 2 folded edges or 2 collapsed faces, worst first. --peer-from takes the
 peer's runs from an earlier gallery JSON (the same cases), so that a quick loop without the peer
 (`bench_gallery --no-peer`) is still compared with it.
     scripts/gallery-summary.py gallery.json [--peer "CGAL ARAP"] [--peer-from peer.json]"""
 import json
 import sys
+
+# Issue 37's time goal for a solve: 1 s up to this many free vertices, 10 s above.
+SMALL_FREE, SMALL_MS, LARGE_MS = 10_000, 1_000.0, 10_000.0
 
 
 def take_option(args: list[str], flag: str) -> str | None:
@@ -59,7 +64,8 @@ def main() -> int:
         ref = runs.get(peer)
         for name, r in runs.items():
             m = methods.setdefault(name, {"folds": 0, "collapsed": 0, "compression": 0.0, "halved": 0.0,
-                                          "errors": 0, "unconverged": 0, "max_ms": 0.0, "worse": [], "cases": 0})
+                                          "errors": 0, "unconverged": 0, "max_ms": 0.0, "worse": [], "cases": 0,
+                                          "iterations": 0, "slow": 0})
             m["cases"] += 1
             if "error" in r:
                 m["errors"] += 1
@@ -70,6 +76,9 @@ def main() -> int:
             m["halved"] += r.get("halved_area", 0.0)
             m["unconverged"] += 0 if r.get("converged", True) else 1
             m["max_ms"] = max(m["max_ms"], r.get("precompute_ms", 0) + r.get("solve_ms", 0))
+            m["iterations"] += r.get("iterations", 0)
+            if "solve_ms" in r and r["solve_ms"] > (SMALL_MS if r.get("free", 0) <= SMALL_FREE else LARGE_MS):
+                m["slow"] += 1
             if ref and "error" not in ref and name != peer:
                 df = r["folded_edges"] - ref["folded_edges"]
                 dc = r["collapsed_faces"] - ref["collapsed_faces"]
@@ -77,13 +86,14 @@ def main() -> int:
                     m["worse"].append((max(df, dc), case["case"], r["folded_edges"], ref["folded_edges"],
                                        r["collapsed_faces"], ref["collapsed_faces"]))
     print(f"| method | cases | folded edges | collapsed faces | mean compression | mean halved area | "
-          f"worse than {peer} | unconverged | errors | slowest (ms) |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+          f"worse than {peer} | unconverged | errors | slowest (ms) | iterations | over the time goal |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for name, m in methods.items():
         worse = "" if name == peer else str(len(m["worse"]))
         ok = max(m["cases"] - m["errors"], 1)
         print(f"| {name} | {m['cases']} | {m['folds']} | {m['collapsed']} | {m['compression'] / ok:.4f} | "
-              f"{m['halved'] / ok:.4f} | {worse} | {m['unconverged']} | {m['errors']} | {m['max_ms']:.0f} |")
+              f"{m['halved'] / ok:.4f} | {worse} | {m['unconverged']} | {m['errors']} | {m['max_ms']:.0f} | "
+              f"{m['iterations']} | {m['slow']} |")
     for name, m in methods.items():
         if not m["worse"]:
             continue

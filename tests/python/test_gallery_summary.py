@@ -1,0 +1,35 @@
+"""scripts/gallery-summary.py on a hand-made gallery JSON: the totals, the cases worse than the peer
+and the runs over issue 37's time goal (1 s up to 10,000 free vertices, 10 s above)."""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+SCRIPT = Path(__file__).resolve().parents[2] / "scripts" / "gallery-summary.py"
+
+
+def run(free, folds, collapsed, iterations, solve_ms, method="freeform k2"):
+    return {"method": method, "free": free, "folded_edges": folds, "collapsed_faces": collapsed,
+            "iterations": iterations, "solve_ms": solve_ms, "precompute_ms": 10.0, "converged": True}
+
+
+def test_totals_worse_cases_and_time_goal(tmp_path):
+    cases = [
+        # 3 more folded edges than the peer: worse; 1.5 s at 5,000 free: over the goal.
+        {"case": "small", "runs": [run(5000, 5, 0, 10, 1500.0), run(5000, 2, 0, 0, 9000.0, "CGAL ARAP")]},
+        # Better than the peer; 9 s at 20,000 free: within the goal.
+        {"case": "large", "runs": [run(20000, 0, 1, 7, 9000.0), run(20000, 3, 3, 0, 5.0, "CGAL ARAP")]},
+        # 11 s at 40,000 free: over; as many collapsed faces as the peer plus 2: not worse.
+        {"case": "larger", "runs": [run(40000, 0, 4, 20, 11000.0), run(40000, 0, 2, 0, 5.0, "CGAL ARAP")]},
+    ]
+    path = tmp_path / "gallery.json"
+    path.write_text(json.dumps(cases))
+    out = subprocess.run([sys.executable, str(SCRIPT), str(path)], check=True, capture_output=True, text=True).stdout
+    rows = {line.split("|")[1].strip(): [c.strip() for c in line.split("|")[2:-1]]
+            for line in out.splitlines() if line.startswith("| ") and not line.startswith("| method")}
+    ours = rows["freeform k2"]
+    assert ours[0:3] == ["3", "5", "5"]  # cases, folded edges, collapsed faces
+    assert ours[5] == "1"  # worse than the peer: "small" only
+    assert ours[-2:] == ["37", "2"]  # iterations, over the time goal
+    assert rows["CGAL ARAP"][-1] == "1"  # its 9 s at 5,000 free
+    assert "small: 5/2, 0/0" in out
