@@ -57,7 +57,7 @@ std::string relinked_line(std::string_view line, const std::string& in_folder, c
 
 std::string relink_material_libraries(std::string text, const std::string& in_folder, const std::string& out_path) {
   const std::string out_folder = folder_of(out_path);
-  if (same_file(in_folder.empty() ? "." : in_folder, out_folder)) return text;
+  if (same_file(in_folder, out_folder)) return text;
   std::string out;
   out.reserve(text.size());
   std::size_t begin = 0;

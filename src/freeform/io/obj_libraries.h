@@ -6,7 +6,7 @@
 
 namespace freeform::io_detail {
 
-// `text` (an OBJ file read from `in_folder`) for writing to `out_path`: in another folder each
+// `text` (an OBJ file read from `in_folder`, folder_of() its path) for writing to `out_path`: in another folder each
 // relative library name becomes the path from there to the same file (absolute where that path
 // would hold a space, which separates names in OBJ). The libraries' own texture names resolve
 // from their folder, so they keep working. Unchanged when both folders are one.
