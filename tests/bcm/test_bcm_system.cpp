@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
 #include <string>
 
 namespace freeform::test {
@@ -122,6 +124,42 @@ TEST(Assembly, WholeClosedComponentIsRefusedNamingAVertex) {
   // With a handle the same support is fine.
   const Regions with_handle(sphere, all, {{{Vertex(0), Vertex(1)}, true}});
   EXPECT_NO_THROW(BcmSolver(sphere, with_handle, BcmSettings{}));
+}
+
+// A vertex of 4,200 neighbours next to the support would make order-2 rows of millions of
+// entries: refused, naming it and the first free vertex in the system's order, also when the
+// free vertices are enough for the check to run on several threads (it looks at all of them).
+TEST(Assembly, HugeFanIsRefusedNamingTheFirstFreeVertexNextToIt) {
+  constexpr int kFans = 5, kRim = 4200;
+  TriangleSoup soup;
+  for (int f = 0; f < kFans; ++f) {
+    const int center = static_cast<int>(soup.positions.size());
+    soup.positions.emplace_back(10.0 * f, 0.0, 0.0);
+    for (int i = 0; i < kRim; ++i) {
+      const double a = 2.0 * std::numbers::pi * i / kRim;
+      soup.positions.emplace_back(10.0 * f + std::cos(a), std::sin(a), 0.0);
+    }
+    for (int i = 0; i < kRim; ++i) soup.faces.push_back({center, center + 1 + i, center + 1 + (i + 1) % kRim});
+  }
+  const Mesh mesh = Mesh::from_soup(soup);
+  // Free: the rim vertices but the first of each fan (fixed, with the centres). Every block of
+  // the check meets a huge fan; the refusal names the first in the system's order (breadth-first
+  // from the lowest index): vertex 2, next to centre 0.
+  std::vector<Vertex> support;
+  for (int v = mesh.n_vertices() - 1; v >= 0; --v)
+    if (v % (kRim + 1) > 1) support.emplace_back(v);
+  const Regions regions(mesh, support, {});
+  BcmSettings s;
+  s.order = 2;
+  try {
+    (void)assemble_bcm_system(mesh, mesh.positions(), regions, s);
+    ADD_FAILURE() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("vertex 0 has 4200 neighbours, next to free vertex 2:"), std::string::npos) << msg;
+  }
+  s.order = 1;  // a Laplacian row is as wide as the valence: no refusal
+  EXPECT_NO_THROW((void)assemble_bcm_system(mesh, mesh.positions(), regions, s));
 }
 
 TEST(Assembly, FreeIslandWithoutConstraintIsRefused) {

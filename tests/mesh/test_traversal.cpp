@@ -84,8 +84,10 @@ TEST(Traversal, BreadthFirstOrderVisitsRingByRing) {
 TEST(Traversal, BreadthFirstOrderKeepsPiecesApartInTheOrderOfTheirFirstVertex) {
   const Mesh m = Mesh::from_soup(strip(20));
   const std::vector<Vertex> set{Vertex(16), Vertex(15), Vertex(17), Vertex(3), Vertex(2), Vertex(4)};
-  const std::vector<Vertex> order = breadth_first_order(m, set);
+  std::vector<int> starts{7};  // replaced
+  const std::vector<Vertex> order = breadth_first_order(m, set, &starts);
   ASSERT_EQ(order.size(), 6u);
+  EXPECT_EQ(starts, (std::vector<int>{0, 3}));
   EXPECT_EQ(order[0], Vertex(16));
   EXPECT_EQ(order[3], Vertex(3));
   std::vector<int> first, second;

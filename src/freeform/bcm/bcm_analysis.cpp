@@ -27,32 +27,63 @@ bool expect_symmetric(const BcmSettings& s) {
                      [&](const SmoothnessSegment& g) { return even(g.value); });
 }
 
+// The free vertices (in `free`'s order, local indices 0 .. n-1) and those within `rings` rings of
+// them, with their adjacency among themselves in local indices: the walks below read these
+// compact arrays instead of the mesh's (a subdivided mesh's numbering scatters neighbours).
+struct LocalGraph {
+  std::vector<int> offset, to;  // the neighbours of local vertex l: to[offset[l] .. offset[l + 1])
+};
+
+LocalGraph local_graph(const Mesh& mesh, const std::vector<Vertex>& free, int rings) {
+  VertexData<int> local(static_cast<std::size_t>(mesh.n_vertices()), -1);
+  std::vector<Vertex> order = free;
+  for (std::size_t i = 0; i < free.size(); ++i) local[free[i]] = static_cast<int>(i);
+  for (std::size_t d = 0, begin = 0; d < static_cast<std::size_t>(rings); ++d) {
+    const std::size_t end = order.size();
+    for (std::size_t i = begin; i < end; ++i)
+      for (Halfedge h : mesh.outgoing(order[i]))
+        if (const Vertex w = mesh.to_vertex(h); local[w] < 0) {
+          local[w] = static_cast<int>(order.size());
+          order.push_back(w);
+        }
+    begin = end;
+  }
+  LocalGraph g;
+  g.offset.reserve(order.size() + 1);
+  g.offset.push_back(0);
+  for (Vertex v : order) {
+    for (Halfedge h : mesh.outgoing(v))
+      if (const int l = local[mesh.to_vertex(h)]; l >= 0) g.to.push_back(l);
+    g.offset.push_back(static_cast<int>(g.to.size()));
+  }
+  return g;
+}
+
 }  // namespace
 
+// A walk expands the vertices at depth 0 .. order-1, which lie within order-1 rings of the free
+// set; deeper ones are never free, so the local graph leaves them out.
 Eigen::SparseMatrix<double> bcm_lower_pattern(const Mesh& mesh, const Regions& regions, int order,
                                               const std::atomic<bool>* stop) {
   const std::vector<Vertex> free = breadth_first_order(mesh, regions.free_vertices());
   const int n = static_cast<int>(free.size());
-  VertexData<int> index(static_cast<std::size_t>(mesh.n_vertices()), -1);
-  for (int i = 0; i < n; ++i) index[free[static_cast<std::size_t>(i)]] = i;
-  VertexData<int> seen(static_cast<std::size_t>(mesh.n_vertices()), -1);
-  std::vector<int> outer(static_cast<std::size_t>(n) + 1, 0), inner, column;
-  std::vector<Vertex> frontier, next;
+  const LocalGraph g = local_graph(mesh, free, order - 1);
+  std::vector<int> seen(g.offset.size() - 1, -1);
+  std::vector<int> outer(static_cast<std::size_t>(n) + 1, 0), inner, column, frontier, next;
   for (int j = 0; j < n; ++j) {
     if (stop && j % 4096 == 0 && stop->load(std::memory_order_relaxed)) return {};
-    column.clear();
-    frontier.assign(1, free[static_cast<std::size_t>(j)]);
-    seen[frontier[0]] = j;
-    column.push_back(j);
+    column.assign(1, j);
+    frontier.assign(1, j);
+    seen[static_cast<std::size_t>(j)] = j;
     for (int depth = 0; depth < order; ++depth) {
       next.clear();
-      for (Vertex v : frontier)
-        for (Halfedge h : mesh.outgoing(v)) {
-          const Vertex w = mesh.to_vertex(h);
-          if (seen[w] == j) continue;
-          seen[w] = j;
+      for (int u : frontier)
+        for (int t = g.offset[static_cast<std::size_t>(u)]; t < g.offset[static_cast<std::size_t>(u) + 1]; ++t) {
+          const int w = g.to[static_cast<std::size_t>(t)];
+          if (seen[static_cast<std::size_t>(w)] == j) continue;
+          seen[static_cast<std::size_t>(w)] = j;
           next.push_back(w);
-          if (index[w] > j) column.push_back(index[w]);
+          if (w > j && w < n) column.push_back(w);
         }
       frontier.swap(next);
     }

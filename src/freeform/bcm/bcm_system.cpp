@@ -12,6 +12,7 @@
 #include "freeform/operators/face_geometry.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
 
@@ -53,38 +54,27 @@ Patch build_patch(const Mesh& mesh, const std::vector<Vertex>& free, int k) {
   return p;
 }
 
-// A connected part of the free region (through free-free edges) with no constrained vertex in
-// its one-ring makes A_pp singular: refuse it before factoring.
-void check_constrained_reach(const Mesh& mesh, const Regions& regions, const Patch& p) {
-  std::vector<int> comp(static_cast<std::size_t>(p.n_free), -1);
-  std::vector<int> stack;
-  for (int s = 0; s < p.n_free; ++s) {
-    if (comp[static_cast<std::size_t>(s)] >= 0) continue;
-    bool constrained = false;
-    comp[static_cast<std::size_t>(s)] = s;
-    stack.assign(1, s);
-    while (!stack.empty()) {
-      const int i = stack.back();
-      stack.pop_back();
-      for (Halfedge h : mesh.outgoing(p.order[static_cast<std::size_t>(i)])) {
-        const Vertex w = mesh.to_vertex(h);
-        if (regions.role(w) != Role::Free) {
-          constrained = true;
-          continue;
+// A piece of the free region (connected through free-free edges: breadth_first_order's runs)
+// with no constrained vertex in its one-ring makes A_pp singular: refuse it before factoring.
+void check_constrained_reach(const Mesh& mesh, const Regions& regions, const std::vector<Vertex>& free,
+                             const std::vector<int>& piece_starts) {
+  std::vector<char> touches(free.size(), 0);
+  parallel_for(static_cast<std::ptrdiff_t>(free.size()), 8192, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i)
+      for (Halfedge h : mesh.outgoing(free[i]))
+        if (regions.role(mesh.to_vertex(h)) != Role::Free) {
+          touches[i] = 1;
+          break;
         }
-        const int j = p.local[w];
-        if (comp[static_cast<std::size_t>(j)] < 0) {
-          comp[static_cast<std::size_t>(j)] = s;
-          stack.push_back(j);
-        }
-      }
-    }
-    if (!constrained) {
-      throw InvalidInput("the support covers a whole component of the mesh: free vertex " +
-                         std::to_string(p.order[static_cast<std::size_t>(s)].idx()) +
-                         " and the free vertices connected to it have no fixed or handle vertex next to them, so "
-                         "their position is undetermined; add a handle or shrink the support");
-    }
+  });
+  for (std::size_t c = 0; c < piece_starts.size(); ++c) {
+    const auto first = touches.begin() + piece_starts[c];
+    const auto last = c + 1 < piece_starts.size() ? touches.begin() + piece_starts[c + 1] : touches.end();
+    if (std::find(first, last, 1) != last) continue;
+    throw InvalidInput("the support covers a whole component of the mesh: free vertex " +
+                       std::to_string(free[static_cast<std::size_t>(piece_starts[c])].idx()) +
+                       " and the free vertices connected to it have no fixed or handle vertex next to them, so "
+                       "their position is undetermined; add a handle or shrink the support");
   }
 }
 
@@ -100,26 +90,52 @@ int row_count(const Patch& p, int max_dist) {
 // regular mesh has 19 (k = 2), irregular real meshes stay below a few hundred.
 constexpr long kMaxStencil = 4096;
 
+struct StencilBound {
+  long bound = 0;  // past kMaxStencil once it passes, not summed further
+  Vertex worst;    // the highest valence among v and its neighbours
+};
+
+// Valences memoized in `cache` (-1: not yet; written by several threads, always the same value).
+StencilBound stencil_bound(const Mesh& mesh, Vertex v, VertexData<int>& cache) {
+  auto valence = [&](Vertex w) {
+    std::atomic_ref<int> slot(cache[w]);
+    int n = slot.load(std::memory_order_relaxed);
+    if (n < 0) slot.store(n = mesh.valence(w), std::memory_order_relaxed);
+    return n;
+  };
+  StencilBound out{valence(v) + 1, v};
+  for (Halfedge h : mesh.outgoing(v)) {
+    const Vertex w = mesh.to_vertex(h);
+    out.bound += valence(w) + 1;
+    if (valence(w) > valence(out.worst)) out.worst = w;
+    if (out.bound > kMaxStencil) break;
+  }
+  return out;
+}
+
 void check_stencil_size(const Mesh& mesh, const std::vector<Vertex>& free, int k) {
   if (k < 2) return;
-  VertexData<int> cache(static_cast<std::size_t>(mesh.n_vertices()), -1);  // each valence counted once
-  auto valence = [&](Vertex v) { return cache[v] >= 0 ? cache[v] : (cache[v] = mesh.valence(v)); };
-  for (Vertex v : free) {
-    long bound = valence(v) + 1;
-    Vertex worst = v;
-    for (Halfedge h : mesh.outgoing(v)) {
-      const Vertex w = mesh.to_vertex(h);
-      bound += valence(w) + 1;
-      if (valence(w) > valence(worst)) worst = w;
-      if (bound > kMaxStencil) break;
-    }
-    if (bound > kMaxStencil)
-      throw InvalidInput("vertex " + std::to_string(worst.idx()) + " has " + std::to_string(valence(worst)) +
-                         " neighbours, next to free vertex " + std::to_string(v.idx()) + ": the order-" +
-                         std::to_string(k) + " operator would couple more than " + std::to_string(kMaxStencil) +
-                         " vertices in one row (memory grows with the square of the valence); remesh that fan, "
-                         "keep the vertex out of the support, or use order 1");
-  }
+  VertexData<int> cache(static_cast<std::size_t>(mesh.n_vertices()), -1);
+  // The first free vertex in order whose bound passes: the same refusal on any number of threads.
+  const auto n = static_cast<std::ptrdiff_t>(free.size());
+  std::atomic<std::ptrdiff_t> first{n};
+  parallel_for(n, 8192, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    for (auto i = begin; i < end && i < first.load(std::memory_order_relaxed); ++i)
+      if (stencil_bound(mesh, free[static_cast<std::size_t>(i)], cache).bound > kMaxStencil) {
+        std::ptrdiff_t seen = first.load();
+        while (i < seen && !first.compare_exchange_weak(seen, i)) {
+        }
+        return;
+      }
+  });
+  if (first.load() == n) return;
+  const Vertex v = free[static_cast<std::size_t>(first.load())];
+  const Vertex worst = stencil_bound(mesh, v, cache).worst;
+  throw InvalidInput("vertex " + std::to_string(worst.idx()) + " has " + std::to_string(mesh.valence(worst)) +
+                     " neighbours, next to free vertex " + std::to_string(v.idx()) + ": the order-" +
+                     std::to_string(k) + " operator would couple more than " + std::to_string(kMaxStencil) +
+                     " vertices in one row (memory grows with the square of the valence); remesh that fan, "
+                     "keep the vertex out of the support, or use order 1");
 }
 
 // The inputs' consistency with the mesh (sizes, segment vertices).
@@ -150,18 +166,43 @@ struct FaceWeights {
   double total_area = 0.0;
 };
 
+// The faces incident to the (k-1)-ring in face order; local_face (all -1) receives their indices.
+std::vector<Face> faces_around(const Mesh& mesh, const Patch& p, FaceData<int>& local_face) {
+  parallel_for(p.n_inner, 8192, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i)
+      for (Halfedge h : mesh.outgoing(p.order[i]))  // a face's corners may mark it at once
+        if (const Face f = mesh.face(h); f.is_valid())
+          std::atomic_ref<int>(local_face[f]).store(-2, std::memory_order_relaxed);
+  });
+  // Numbered in face order: each block counts its marked faces, then numbers them from its offset.
+  const int n = mesh.n_faces();
+  const int n_blocks = std::max(1, std::min(n / 65536, 4 * (parallel_workers() + 1)));
+  auto first = [&](int b) { return static_cast<int>(static_cast<long>(n) * b / n_blocks); };
+  std::vector<int> offset(static_cast<std::size_t>(n_blocks) + 1, 0);
+  parallel_for(n_blocks, 1, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    for (auto b = static_cast<int>(begin); b < end; ++b)
+      for (int f = first(b); f < first(b + 1); ++f)
+        offset[static_cast<std::size_t>(b) + 1] += local_face[Face(f)] == -2;
+  });
+  for (std::size_t b = 0; b < static_cast<std::size_t>(n_blocks); ++b) offset[b + 1] += offset[b];
+  std::vector<Face> faces(static_cast<std::size_t>(offset.back()));
+  parallel_for(n_blocks, 1, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    for (auto b = static_cast<int>(begin); b < end; ++b) {
+      int next = offset[static_cast<std::size_t>(b)];
+      for (int f = first(b); f < first(b + 1); ++f)
+        if (local_face[Face(f)] == -2) {
+          local_face[Face(f)] = next;
+          faces[static_cast<std::size_t>(next++)] = Face(f);
+        }
+    }
+  });
+  return faces;
+}
+
 FaceWeights face_weights(const Mesh& mesh, const VertexData<Vec3>& positions, const Patch& p, BcmSystem& sys) {
   FaceWeights out;
   out.local_face = FaceData<int>(static_cast<std::size_t>(mesh.n_faces()), -1);
-  for (int i = 0; i < p.n_inner; ++i)
-    for (Halfedge h : mesh.outgoing(p.order[static_cast<std::size_t>(i)]))
-      if (const Face f = mesh.face(h); f.is_valid()) out.local_face[f] = -2;
-  std::vector<Face> faces;  // in face order
-  for (int f = 0; f < mesh.n_faces(); ++f)
-    if (out.local_face[Face(f)] == -2) {
-      out.local_face[Face(f)] = static_cast<int>(faces.size());
-      faces.emplace_back(f);
-    }
+  const std::vector<Face> faces = faces_around(mesh, p, out.local_face);
   std::vector<detail::CornerWeights> weights(faces.size());
   out.cot.assign(faces.size(), {0.0, 0.0, 0.0});
   parallel_for(static_cast<std::ptrdiff_t>(faces.size()), 16384, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
@@ -263,13 +304,14 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
   check_inputs(mesh, positions, regions, settings);
   const int k = settings.order;
   BcmSystem sys;
-  sys.free = breadth_first_order(mesh, regions.free_vertices());
+  std::vector<int> piece_starts;
+  sys.free = breadth_first_order(mesh, regions.free_vertices(), &piece_starts);
   check_stencil_size(mesh, sys.free, k);
   const Patch p = build_patch(mesh, sys.free, k);
   const int n_free = p.n_free;
   const int n_loc = static_cast<int>(p.order.size());
   const int n_inner = p.n_inner;
-  check_constrained_reach(mesh, regions, p);
+  check_constrained_reach(mesh, regions, sys.free, piece_starts);
   for (Vertex v : p.order)
     if (!positions[v].allFinite())
       throw InvalidInput("vertex " + std::to_string(v.idx()) + " has a non-finite position");

@@ -94,16 +94,18 @@ Components connected_components(const Mesh& mesh) {
   return c;
 }
 
-std::vector<Vertex> breadth_first_order(const Mesh& mesh, std::span<const Vertex> set) {
+std::vector<Vertex> breadth_first_order(const Mesh& mesh, std::span<const Vertex> set, std::vector<int>* piece_starts) {
   // 0 outside the set, 1 in it and not yet queued, 2 queued.
   VertexData<char> state(static_cast<std::size_t>(mesh.n_vertices()), 0);
   for (Vertex v : set) state[v] = 1;
   std::vector<Vertex> out;
   out.reserve(set.size());
+  if (piece_starts) piece_starts->clear();
   for (Vertex start : set) {
     if (state[start] != 1) continue;
     state[start] = 2;
     std::size_t head = out.size();
+    if (piece_starts) piece_starts->push_back(static_cast<int>(head));
     out.push_back(start);
     for (; head < out.size(); ++head)
       for (Halfedge h : mesh.outgoing(out[head]))

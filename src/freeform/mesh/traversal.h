@@ -38,7 +38,9 @@ VertexData<int> label_pieces(const Mesh& mesh, std::span<const char> in, int& co
 // The vertex set `set` (distinct vertices) reordered breadth-first through edges between its
 // vertices, each piece started at its first vertex in `set`. Neighbours end up near each other
 // in arrays indexed this way: a mesh whose numbering scatters neighbours (subdivided ones
-// number edge midpoints after all old vertices) made per-vertex loops latency-bound.
-std::vector<Vertex> breadth_first_order(const Mesh& mesh, std::span<const Vertex> set);
+// number edge midpoints after all old vertices) made per-vertex loops latency-bound. Each piece
+// is a contiguous run of the result; piece_starts (optional) receives where each run begins.
+std::vector<Vertex> breadth_first_order(const Mesh& mesh, std::span<const Vertex> set,
+                                        std::vector<int>* piece_starts = nullptr);
 
 }  // namespace freeform
