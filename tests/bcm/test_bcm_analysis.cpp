@@ -9,8 +9,13 @@
 #include "freeform/bcm/bcm_system.h"
 #include "freeform/common/parallel.h"
 
+#include "freeform/common/held_threads.h"
+
 #include <chrono>
 #include <future>
+#include <memory>
+#include <thread>
+#include <vector>
 
 namespace freeform::test {
 namespace {
@@ -107,6 +112,13 @@ TEST(BcmAnalysis, SolverUsesItAndFallsBackForAnotherPattern) {
   EXPECT_GT(x1.col(2).maxCoeff() - x1.col(2).minCoeff(), 0.15);  // lifted: the rest bumps span 0.1
 }
 
+// A dropped analysis lets its thread go just after its destructor returns (the thread stops
+// at its next check): wait for that before starting the next one.
+void wait_for_released_threads() {
+  for (int i = 0; i < 1000 && threads_free() < thread_budget(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+}
+
 TEST(BcmAnalysis, StartsOnlyForLargeSymmetricCholeskySystems) {
   if (thread_budget() < 2) GTEST_SKIP() << "FREEFORM_THREADS=1: no analysis ahead";
   const LargePlane p;
@@ -116,15 +128,43 @@ TEST(BcmAnalysis, StartsOnlyForLargeSymmetricCholeskySystems) {
   BcmSettings s;
   s.order = 3;
   EXPECT_TRUE(BcmAnalysis(p.mesh, large, s, kSmall).started());
+  wait_for_released_threads();
   EXPECT_FALSE(BcmAnalysis(bumpy.mesh, small, s).started());
   EXPECT_FALSE(BcmAnalysis(p.mesh, large, s).started());  // 22k free: below kMinFree
   s.smoothness.outer = 0.0;  // lambda_1 = lambda_2 = 0: still symmetric
   EXPECT_TRUE(BcmAnalysis(p.mesh, large, s, kSmall).started());
+  wait_for_released_threads();
   s.smoothness.outer = 1.0;  // k = 3, c = 1: unsymmetric (LU)
   EXPECT_FALSE(BcmAnalysis(p.mesh, large, s, kSmall).started());
   s.smoothness.outer = Smoothness::kDefault;
   s.solver = SolverKind::Umfpack;
   EXPECT_FALSE(BcmAnalysis(p.mesh, large, s, kSmall).started());
+}
+
+// Analyses ahead side by side never take more threads than the cores beside the caller's: on 2
+// cores the operator shape's fill, started beside the system's analysis, analyzes its A itself.
+// Each started one holds its thread from its constructor on.
+TEST(BcmAnalysis, NeverMoreAnalysesAheadThanCoresBesideTheCaller) {
+  if (thread_budget() < 2) GTEST_SKIP() << "FREEFORM_THREADS=1: no analysis ahead";
+  const LargePlane p;
+  const Regions regions = p.regions(0.001);
+  BcmSettings s;
+  s.order = 2;
+  std::promise<void> release;
+  const std::shared_future<void> go = release.get_future().share();
+  std::vector<std::unique_ptr<BcmAnalysis>> ahead;
+  for (int i = 0; i <= thread_budget(); ++i)
+    ahead.push_back(std::make_unique<BcmAnalysis>(p.mesh, regions, s, kSmall, [go] { go.wait(); }));
+  int started = 0;
+  for (const auto& a : ahead) started += a->started() ? 1 : 0;
+  EXPECT_EQ(started, thread_budget() - 1);
+  EXPECT_EQ(threads_free(), 1);
+  release.set_value();
+  for (const auto& a : ahead)
+    if (a->started()) {
+      EXPECT_NE(a->get(), nullptr);
+    }
+  EXPECT_EQ(threads_free(), thread_budget());
 }
 
 TEST(BcmAnalysis, PatternStopsWhenAsked) {

@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <chrono>
 #include <exception>
-#include <optional>
 #include <system_error>
 #include <thread>
 #include <vector>
@@ -107,13 +106,18 @@ BcmAnalysis::BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSett
                          std::function<void()> before_ordering) {
   if (regions.n_free() < min_free || !expect_symmetric(settings)) return;
   if (settings.solver != SolverKind::Auto && settings.solver != SolverKind::CholmodSupernodal) return;
-  if (thread_budget() < 2) return;  // FREEFORM_THREADS=1: no thread beside the caller's
+  // No core beside the caller's and the analyses already ahead (FREEFORM_THREADS=1; on 2 cores
+  // the operator shape's fill beside the system's): the solver analyzes A itself.
+  if (threads_free() < 2) return;
+  // Held from here, not from when the thread first runs: an analysis started right after this
+  // one must see it. Released before the result is handed over.
+  auto held = std::make_unique<HeldThread>();
   shared_ = std::make_shared<Shared>();
   read_done_ = shared_->read_done.get_future();
   future_ = shared_->result.get_future();
   try {
-    std::thread([&mesh, &regions, k = settings.order, shared = shared_, hook = std::move(before_ordering)] {
-      std::optional<HeldThread> held(std::in_place);  // released before the result is handed over
+    std::thread([&mesh, &regions, k = settings.order, shared = shared_, hook = std::move(before_ordering),
+                 held = std::move(held)]() mutable {
       const auto t = std::chrono::steady_clock::now();
       const double cpu0 = PhaseClock::thread_cpu_ms() + helper_cpu_ms();
       Eigen::SparseMatrix<double> lower = [&] {

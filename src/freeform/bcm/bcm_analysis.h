@@ -28,7 +28,8 @@ class BcmAnalysis {
  public:
   // Starts only where it can pay off: at least min_free free vertices, a solver setting that
   // allows CHOLMOD and a system expected to be symmetric (k <= 2, or every boundary
-  // smoothness 0 or 2 at k = 3: docs/bcm.md) and a second thread is allowed (thread_budget()).
+  // smoothness 0 or 2 at k = 3: docs/bcm.md), and where a core is left beside the caller's and
+  // the analyses already running (threads_free() >= 2: never more threads than cores).
   // mesh and regions must outlive this.
   // before_ordering (tests): called on the thread between the pattern and the ordering.
   BcmAnalysis(const Mesh& mesh, const Regions& regions, const BcmSettings& settings, int min_free = kMinFree,
