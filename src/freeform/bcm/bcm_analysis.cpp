@@ -1,4 +1,5 @@
 #include "freeform/bcm/bcm_analysis.h"
+#include "freeform/bcm/patch.h"
 
 #include "freeform/common/held_threads.h"
 #include "freeform/common/parallel.h"
@@ -26,33 +27,20 @@ bool expect_symmetric(const BcmSettings& s) {
                      [&](const SmoothnessSegment& g) { return even(g.value); });
 }
 
-// The free vertices (in `free`'s order, local indices 0 .. n-1) and those within `rings` rings of
-// them, with their adjacency among themselves in local indices: the walks below read these
-// compact arrays instead of the mesh's (a subdivided mesh's numbering scatters neighbours).
+// The adjacency among the free vertices and those within `rings` rings of them, in the patch's
+// local indices (free ones 0 .. n-1, in `free`'s order).
 struct LocalGraph {
   std::vector<int> offset, to;  // the neighbours of local vertex l: to[offset[l] .. offset[l + 1])
 };
 
 LocalGraph local_graph(const Mesh& mesh, const std::vector<Vertex>& free, int rings) {
-  VertexData<int> local(static_cast<std::size_t>(mesh.n_vertices()), -1);
-  std::vector<Vertex> order = free;
-  for (std::size_t i = 0; i < free.size(); ++i) local[free[i]] = static_cast<int>(i);
-  for (std::size_t d = 0, begin = 0; d < static_cast<std::size_t>(rings); ++d) {
-    const std::size_t end = order.size();
-    for (std::size_t i = begin; i < end; ++i)
-      for (Halfedge h : mesh.outgoing(order[i]))
-        if (const Vertex w = mesh.to_vertex(h); local[w] < 0) {
-          local[w] = static_cast<int>(order.size());
-          order.push_back(w);
-        }
-    begin = end;
-  }
+  const Patch p = build_patch(mesh, free, rings);
   LocalGraph g;
-  g.offset.reserve(order.size() + 1);
+  g.offset.reserve(p.order.size() + 1);
   g.offset.push_back(0);
-  for (Vertex v : order) {
+  for (Vertex v : p.order) {
     for (Halfedge h : mesh.outgoing(v))
-      if (const int l = local[mesh.to_vertex(h)]; l >= 0) g.to.push_back(l);
+      if (const int l = p.local[mesh.to_vertex(h)]; l >= 0) g.to.push_back(l);
     g.offset.push_back(static_cast<int>(g.to.size()));
   }
   return g;

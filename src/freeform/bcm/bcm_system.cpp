@@ -3,6 +3,7 @@
 // (k-1)-ring, then S_k = L Lam_{k-1} D L ... Lam_1 D L as sparse products on that patch.
 #include "freeform/bcm/bcm_system.h"
 #include "freeform/bcm/boundary_band.h"
+#include "freeform/bcm/patch.h"
 
 #include "freeform/common/error.h"
 #include "freeform/common/parallel.h"
@@ -18,41 +19,6 @@
 
 namespace freeform {
 namespace {
-
-// The patch: free vertices first (regions order), then the constrained ones ring by ring.
-struct Patch {
-  std::vector<Vertex> order;  // local index -> vertex
-  std::vector<int> dist;      // ring distance from the free set
-  VertexData<int> local;      // vertex -> local index, -1 outside
-  int n_free = 0;
-  int n_inner = 0;            // local indices [0, n_inner) have ring distance <= k-1
-};
-
-Patch build_patch(const Mesh& mesh, const std::vector<Vertex>& free, int k) {
-  Patch p;
-  p.local = VertexData<int>(static_cast<std::size_t>(mesh.n_vertices()), -1);
-  p.n_free = static_cast<int>(free.size());
-  p.order = free;
-  p.dist.assign(free.size(), 0);
-  for (int i = 0; i < p.n_free; ++i) p.local[free[static_cast<std::size_t>(i)]] = i;
-  std::size_t begin = 0;
-  p.n_inner = k == 1 ? p.n_free : -1;
-  for (int d = 1; d <= k; ++d) {
-    const std::size_t end = p.order.size();
-    for (std::size_t i = begin; i < end; ++i) {
-      for (Halfedge h : mesh.outgoing(p.order[i])) {
-        const Vertex w = mesh.to_vertex(h);
-        if (p.local[w] >= 0) continue;
-        p.local[w] = static_cast<int>(p.order.size());
-        p.order.push_back(w);
-        p.dist.push_back(d);
-      }
-    }
-    if (d == k - 1) p.n_inner = static_cast<int>(p.order.size());
-    begin = end;
-  }
-  return p;
-}
 
 // A piece of the free region (connected through free-free edges: breadth_first_order's runs)
 // with no constrained vertex in its one-ring makes A_pp singular: refuse it before factoring.
