@@ -21,9 +21,9 @@ namespace freeform {
 // stretched one pulled back to 1 + stretch_share (s - 1). With onset > 0 the push starts
 // smoothly: compression_gain (1 - s)^2 / (2 onset) up to a compression of onset, then the line
 // shifted by onset / 2 (its slope continuous). The defaults were chosen on the gallery
-// (docs/nonlinear.md, "What the gallery found", 21): a compression gain of 1 oscillates on small
-// supports, where the membrane outweighs bending; accepting all of the stretch lets stretched
-// regions drift for hundreds of iterations.
+// (docs/nonlinear.md, "What the gallery found", 21 and 35): the solver takes a compression gain
+// of 1 on small supports only, where it keeps cross-sections; accepting all of the stretch lets
+// stretched regions drift for hundreds of iterations.
 struct OneSided {
   double compression_gain = 0.5;
   double stretch_share = 0.5;

@@ -49,11 +49,20 @@ constexpr double kMembraneFree = 500.0, kMaxMembrane = 2.0;
 constexpr int kLocalMembraneMaxFree = 10000;
 // How the membrane's targets follow the edges' stretch (face_fans.h). With its own 1-ring
 // rotations: compressed edges pushed out, stretched ones pulled back halfway (chosen on the
-// gallery, docs/nonlinear.md, "What the gallery found", 21). With the smoothed field (larger
-// supports) a stretch is resisted fully and the push's onset is smooth: releasing stretch, or a
-// kink at the rest length, made the editor benchmark's bunny twist settle in 40-300 iterations
-// instead of 25-28; without the push the subdivided armadillo's knee crumpled at C0 (item 28).
-constexpr OneSided kLocalMembrane{}, kFieldMembrane{0.5, 0.0, 0.1};
+// gallery, docs/nonlinear.md, "What the gallery found", 21). Up to kStiffCompressionMaxFree free
+// vertices, where the membrane weighs most, pushed out by their whole compression and pulled
+// back by a fifth of their stretch: limbs keep their cross-sections (item 35; on larger supports
+// this drifted for hundreds of iterations). Fed back through the right-hand side alone, that push
+// flips a mode's sign every iteration, so there the factored operator holds kLaggedMembrane more
+// of the membrane's weight and the right-hand side gives it back at the current iterate: the
+// fixed points stay, and for a compressed edge the feedback cancels. With the smoothed field
+// (larger supports still) a stretch is resisted fully and the push's onset is smooth: releasing
+// stretch, or a kink at the rest length, made the editor benchmark's bunny twist settle in 40-300
+// iterations instead of 25-28; without the push the subdivided armadillo's knee crumpled at C0
+// (item 28).
+constexpr OneSided kLocalMembrane{}, kStiffCompression{1.0, 0.8, 0.0}, kFieldMembrane{0.5, 0.0, 0.1};
+constexpr int kStiffCompressionMaxFree = 1500;
+constexpr double kLaggedMembrane = 1.0;
 // Above this many free vertices the volume term's response to the gradient at the iterate is
 // solved together with the step (one back-substitution of 6 columns instead of two of 3; the
 // solves are most of an iteration there). Below it the response is to the gradient after the
@@ -146,6 +155,7 @@ struct NonlinearSolver::Data {
   // The membrane term (add_membrane): its weight, and at order 2 its own rotations, fitted to
   // the 1-ring alone (ARAP's local step), with its rotated minus rest edges (P x 3).
   double mu = 0.0;
+  double lagged = 0.0;  // the membrane's extra weight in the operator, lagged on the right-hand side
   bool local_membrane = false;
   std::vector<Eigen::Quaterniond> q_local;
   std::vector<Eigen::Matrix3d> rot_local;
@@ -369,8 +379,9 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
         d.rot_local[ui] =
             i < p ? d.scale[ui] * d.q_local[ui].toRotationMatrix() - Eigen::Matrix3d::Identity() : d.rot[ui];
       });
-      arap_rows(d.rot_local, d.b_mem, &kLocalMembrane);
+      arap_rows(d.rot_local, d.b_mem, p <= kStiffCompressionMaxFree ? &kStiffCompression : &kLocalMembrane);
       rhs += d.mu * d.b_mem;
+      if (d.lagged != 0.0) add_lagged_membrane(rhs);
     }
     if (joint) d.volume_rhs(p, both.rightCols(volume_cols));
     // The backward error depends on the factor far more than on the right-hand side: the
@@ -444,7 +455,8 @@ void NonlinearSolver::add_membrane(double weight) {
   }
   const double sign = (da > 0.0) == (dl > 0.0) ? 1.0 : -1.0;
   const double mu = sign * weight * std::abs(da) / std::max(std::abs(dl), 1e-300);
-  full += mu * membrane;
+  d.lagged = p <= kStiffCompressionMaxFree ? kLaggedMembrane : 0.0;
+  full += (1.0 + d.lagged) * mu * membrane;
   Eigen::SparseMatrix<double> app = full.leftCols(p), apc = full.rightCols(n - p);
   const bool symmetric = is_symmetric(app, 1e-10);
   d.sys->solver = SparseSolver(std::move(app), symmetric);
@@ -489,6 +501,19 @@ void NonlinearSolver::keep_volumes() {
   d.volume_rhs(p, rhs);
   // No residual check: the same factor's was checked (iterate).
   d.restore_volumes(p, d.sys->solver.solve(rhs, false));
+}
+
+// The lagged part of the membrane (add_membrane): lagged mu times its Laplacian rows at the
+// current iterate, which the same extra weight in the operator takes back at a fixed point.
+void NonlinearSolver::add_lagged_membrane(Eigen::Ref<Eigen::MatrixXd> rhs) {
+  Data& d = *d_;
+  const double w = d.lagged * d.mu;
+  parallel_rows(n_free_, [&](int i) {
+    Vec3 sum = Vec3::Zero();
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator e(d.sys->lap, i); e; ++e)
+      sum += e.value() * (row(d.x.data(), e.col()) - row(d.rest.data(), e.col()));
+    rhs.row(i) += w * sum.transpose();
+  });
 }
 
 void NonlinearSolver::fit_rotations() {
