@@ -186,6 +186,17 @@ struct NonlinearSolver::Data {
       if (mu != 0.0) out.middleCols(3 * c, 3) += mu * grad.topRows(p);
     }
   }
+  // The lagged part of the membrane (add_membrane): lagged mu times its Laplacian rows at the
+  // current iterate, which the same extra weight in the operator takes back at a fixed point.
+  void add_lagged_membrane(int p, Eigen::Ref<Eigen::MatrixXd> rhs) const {
+    const double w = lagged * mu;
+    parallel_rows(p, [&](int i) {
+      Vec3 sum = Vec3::Zero();
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator e(sys->lap, i); e; ++e)
+        sum += e.value() * (row(x.data(), e.col()) - row(rest.data(), e.col()));
+      rhs.row(i) += w * sum.transpose();
+    });
+  }
   // Adds each component's response times the multiplier that restores its target volume.
   void restore_volumes(int p, const Eigen::MatrixXd& u) {
     for (int c = 0; c < volumes->count(); ++c) {
@@ -381,7 +392,7 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
       });
       arap_rows(d.rot_local, d.b_mem, p <= kStiffCompressionMaxFree ? &kStiffCompression : &kLocalMembrane);
       rhs += d.mu * d.b_mem;
-      if (d.lagged != 0.0) add_lagged_membrane(rhs);
+      if (d.lagged != 0.0) d.add_lagged_membrane(p, rhs);
     }
     if (joint) d.volume_rhs(p, both.rightCols(volume_cols));
     // The backward error depends on the factor far more than on the right-hand side: the
@@ -501,19 +512,6 @@ void NonlinearSolver::keep_volumes() {
   d.volume_rhs(p, rhs);
   // No residual check: the same factor's was checked (iterate).
   d.restore_volumes(p, d.sys->solver.solve(rhs, false));
-}
-
-// The lagged part of the membrane (add_membrane): lagged mu times its Laplacian rows at the
-// current iterate, which the same extra weight in the operator takes back at a fixed point.
-void NonlinearSolver::add_lagged_membrane(Eigen::Ref<Eigen::MatrixXd> rhs) {
-  Data& d = *d_;
-  const double w = d.lagged * d.mu;
-  parallel_rows(n_free_, [&](int i) {
-    Vec3 sum = Vec3::Zero();
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator e(d.sys->lap, i); e; ++e)
-      sum += e.value() * (row(d.x.data(), e.col()) - row(d.rest.data(), e.col()));
-    rhs.row(i) += w * sum.transpose();
-  });
 }
 
 void NonlinearSolver::fit_rotations() {

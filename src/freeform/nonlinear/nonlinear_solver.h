@@ -119,7 +119,6 @@ class NonlinearSolver final : public IterativeModel {
 
   void fit_rotations();
   void keep_volumes();
-  void add_lagged_membrane(Eigen::Ref<Eigen::MatrixXd> rhs);
   void add_membrane(double weight);
   void arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out, const OneSided* one_sided = nullptr);
 };
