@@ -269,7 +269,6 @@ TEST(GallerySubset, PullsAtOrder3StayClean) {
   }
 }
 
-}  // namespace
 
 // Homer's limbs (drawn with seed 37 for this mesh alone; supports of a few hundred free
 // vertices, where the membrane weighs most): bends and twists keep their cross-sections
@@ -287,3 +286,5 @@ TEST(GallerySubset, SmallLimbsKeepTheirCrossSections) {
     EXPECT_LE(10 * t.collapsed[k], 9 * t.peer_collapsed) << "k = " << k + 2;
   }
 }
+
+}  // namespace
