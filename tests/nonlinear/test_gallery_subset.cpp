@@ -269,7 +269,6 @@ TEST(GallerySubset, PullsAtOrder3StayClean) {
   }
 }
 
-
 // Homer's limbs (drawn with seed 37 for this mesh alone; supports of a few hundred free
 // vertices, where the membrane weighs most): bends and twists keep their cross-sections
 // (docs/nonlinear.md, "What the gallery found", 35). Measured 2026-12-05: folded edges 146 /
