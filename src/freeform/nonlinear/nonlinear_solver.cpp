@@ -49,19 +49,19 @@ constexpr double kMembraneFree = 500.0, kMaxMembrane = 2.0;
 constexpr int kLocalMembraneMaxFree = 10000;
 // How the membrane's targets follow the edges' stretch (face_fans.h). With its own 1-ring
 // rotations: compressed edges pushed out, stretched ones pulled back halfway (chosen on the
-// gallery, docs/nonlinear.md, "What the gallery found", 21). Up to kStiffCompressionMaxFree free
+// gallery, docs/nonlinear.md, "What the gallery found", 21). Up to kStiffCompressionFull free
 // vertices, where the membrane weighs most, pushed out by their whole compression and pulled
 // back by a fifth of their stretch: limbs keep their cross-sections (item 35; on larger supports
-// this drifted for hundreds of iterations). Fed back through the right-hand side alone, that push
-// flips a mode's sign every iteration, so there the factored operator holds kLaggedMembrane more
-// of the membrane's weight and the right-hand side gives it back at the current iterate: the
-// fixed points stay, and for a compressed edge the feedback cancels. With the smoothed field
-// (larger supports still) a stretch is resisted fully and the push's onset is smooth: releasing
-// stretch, or a kink at the rest length, made the editor benchmark's bunny twist settle in 40-300
-// iterations instead of 25-28; without the push the subdivided armadillo's knee crumpled at C0
-// (item 28).
+// this drifted for hundreds of iterations), blended into the former up to kStiffCompressionNone.
+// Fed back through the right-hand side alone, that push flips a mode's sign every iteration, so
+// there the factored operator holds kLaggedMembrane more of the membrane's weight and the
+// right-hand side gives it back at the current iterate: the fixed points stay, and for a
+// compressed edge the feedback cancels. With the smoothed field (larger supports still) a stretch
+// is resisted fully and the push's onset is smooth: releasing stretch, or a kink at the rest
+// length, made the editor benchmark's bunny twist settle in 40-300 iterations instead of 25-28;
+// without the push the subdivided armadillo's knee crumpled at C0 (item 28).
 constexpr OneSided kLocalMembrane{}, kStiffCompression{1.0, 0.8, 0.0}, kFieldMembrane{0.5, 0.0, 0.1};
-constexpr int kStiffCompressionMaxFree = 1500;
+constexpr double kStiffCompressionFull = 1000.0, kStiffCompressionNone = 1500.0;
 constexpr double kLaggedMembrane = 1.0;
 // Above this many free vertices the volume term's response to the gradient at the iterate is
 // solved together with the step (one back-substitution of 6 columns instead of two of 3; the
@@ -157,6 +157,7 @@ struct NonlinearSolver::Data {
   double mu = 0.0;
   double lagged = 0.0;  // the membrane's extra weight in the operator, lagged on the right-hand side
   bool local_membrane = false;
+  OneSided one_sided{};  // the targets of the membrane's own rotations (kStiffCompression's blend)
   std::vector<Eigen::Quaterniond> q_local;
   std::vector<Eigen::Matrix3d> rot_local;
   Eigen::MatrixXd b_mem;
@@ -390,7 +391,7 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
         d.rot_local[ui] =
             i < p ? d.scale[ui] * d.q_local[ui].toRotationMatrix() - Eigen::Matrix3d::Identity() : d.rot[ui];
       });
-      arap_rows(d.rot_local, d.b_mem, p <= kStiffCompressionMaxFree ? &kStiffCompression : &kLocalMembrane);
+      arap_rows(d.rot_local, d.b_mem, &d.one_sided);
       rhs += d.mu * d.b_mem;
       if (d.lagged != 0.0) d.add_lagged_membrane(p, rhs);
     }
@@ -466,7 +467,12 @@ void NonlinearSolver::add_membrane(double weight) {
   }
   const double sign = (da > 0.0) == (dl > 0.0) ? 1.0 : -1.0;
   const double mu = sign * weight * std::abs(da) / std::max(std::abs(dl), 1e-300);
-  d.lagged = p <= kStiffCompressionMaxFree ? kLaggedMembrane : 0.0;
+  const double stiff =
+      std::clamp((kStiffCompressionNone - p) / (kStiffCompressionNone - kStiffCompressionFull), 0.0, 1.0);
+  const auto blend = [stiff](double from, double to) { return from + stiff * (to - from); };
+  d.one_sided = {blend(kLocalMembrane.compression_gain, kStiffCompression.compression_gain),
+                 blend(kLocalMembrane.stretch_share, kStiffCompression.stretch_share), 0.0};
+  d.lagged = stiff * kLaggedMembrane;
   full += (1.0 + d.lagged) * mu * membrane;
   Eigen::SparseMatrix<double> app = full.leftCols(p), apc = full.rightCols(n - p);
   const bool symmetric = is_symmetric(app, 1e-10);
