@@ -7,9 +7,8 @@
 
 #include "freeform/bcm/bcm_analysis.h"
 #include "freeform/bcm/bcm_system.h"
-#include "freeform/common/parallel.h"
-
 #include "freeform/common/held_threads.h"
+#include "freeform/common/parallel.h"
 
 #include <chrono>
 #include <future>
