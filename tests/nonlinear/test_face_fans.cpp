@@ -146,5 +146,34 @@ TEST(FaceFans, OneSidedRightHandSideAtRestRigidAndUniformlyShrunk) {
   }
 }
 
+// The faces' edge terms computed once (FaceFans::edge_terms) and gathered by each row give the
+// bits of the row's own computation, on a deformation that stretches some edges and compresses
+// others, with a different rotation at every vertex.
+TEST(FaceFans, EdgeTermsPerFaceGiveEachRowsOwnSum) {
+  const Fans f = sphere_fans();
+  const int n = f.mesh.n_vertices();
+  std::vector<Eigen::Matrix3d> rot;
+  std::vector<double> x(f.rest.size());
+  for (int i = 0; i < n; ++i) {
+    rot.push_back(Eigen::AngleAxisd(0.3 * i, Vec3(1.0, std::cos(i), 2.0).normalized()).toRotationMatrix() -
+                  Eigen::Matrix3d::Identity());
+    for (int k = 0; k < 3; ++k)
+      x[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(k)] =
+          f.rest[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(k)] * (1.0 + 0.3 * std::sin(5.0 * i + k));
+  }
+  const OneSided one_sided{1.0, 0.2, 0.05};
+  std::vector<Eigen::Matrix3d> means;
+  std::vector<FaceFans::EdgeTerms> terms;
+  for (int face = 0; face < f.fans->n_faces(); ++face) {
+    means.push_back(f.fans->mean(face, rot));
+    terms.push_back(f.fans->edge_terms(face, means.back(), f.rest.data(), x.data(), one_sided));
+  }
+  for (int i = 0; i < n; ++i) {
+    const Vec3 own = f.fans->rotated(i, f.rest.data(), means, x.data(), one_sided);
+    EXPECT_EQ(f.fans->rotated(i, terms), own) << i;
+    EXPECT_NE(own, f.fans->rotated(i, f.rest.data(), means)) << i;  // the targets do depend on x
+  }
+}
+
 }  // namespace
 }  // namespace freeform

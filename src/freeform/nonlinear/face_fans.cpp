@@ -1,5 +1,6 @@
 #include "freeform/nonlinear/face_fans.h"
 
+#include "freeform/common/error.h"
 #include "freeform/operators/face_geometry.h"
 
 #include <algorithm>
@@ -42,7 +43,12 @@ FaceFans::FaceFans(const Mesh& mesh, const VertexData<int>& local, std::span<con
         face = static_cast<int>(corners_.size());
         corners_.push_back({i, j, n});
       }
-      faces_.push_back({j, n, face, 0.0, 0.0});
+      const std::array<int, 3>& c = corners_[static_cast<std::size_t>(face)];
+      const int corner = c[0] == i ? 0 : c[1] == i ? 1 : 2;
+      // An oriented manifold's halfedges give every row its corners in the face's own cycle.
+      if (c[static_cast<std::size_t>((corner + 1) % 3)] != j || c[static_cast<std::size_t>((corner + 2) % 3)] != n)
+        throw InternalError("FaceFans: a face's corners are not in the order of its halfedges");
+      faces_.push_back({j, n, face, corner, 0.0, 0.0});
       // The fit's three edges (i, j), (i, n), (j, n), gathered on the row's ring.
       add_spoke(i, j, i, fit_weight(w.cot[2]), rest);
       add_spoke(i, n, i, fit_weight(w.cot[1]), rest);
@@ -107,26 +113,51 @@ Eigen::Matrix3d FaceFans::mean(int face, const std::vector<Eigen::Matrix3d>& rot
          3.0;
 }
 
+FaceFans::EdgeTerms FaceFans::edge_terms(int face, const Eigen::Matrix3d& mean, const double* rest, const double* x,
+                                         const OneSided& one_sided) const {
+  const std::array<int, 3>& c = corners_[static_cast<std::size_t>(face)];
+  // The target t = (mean + I) r, scaled by the edge's stretch along it, minus the rest edge r.
+  const auto term = [&](int a, int b) -> Vec {
+    const Vec r = row(rest, b) - row(rest, a);
+    const Vec t = mean * r + r;
+    const double tt = t.squaredNorm();
+    const double stretch = tt > 0.0 ? (row(x, b) - row(x, a)).dot(t) / tt : 1.0;
+    return target_scale(stretch, one_sided) * t - r;
+  };
+  return {term(c[0], c[1]), term(c[0], c[2]), term(c[1], c[2])};
+}
+
+template <class Terms>
+Eigen::Vector3d FaceFans::sum_terms(int i, const Terms& terms) const {
+  Vec b = Vec::Zero();
+  for (int k = offset_[static_cast<std::size_t>(i)]; k < offset_[static_cast<std::size_t>(i) + 1]; ++k) {
+    const Face& f = faces_[static_cast<std::size_t>(k)];
+    const EdgeTerms& t = terms(f.face);
+    // Row i at corner 0 has edges 01 and 02; at 1, 12 and 10; at 2, 20 and 21.
+    const Vec tj = f.corner == 0 ? t[0] : f.corner == 1 ? t[2] : Vec(-t[1]);
+    const Vec tn = f.corner == 0 ? t[1] : f.corner == 1 ? Vec(-t[0]) : Vec(-t[2]);
+    b += f.wj * tj + f.wn * tn;
+  }
+  return b;
+}
+
+Eigen::Vector3d FaceFans::rotated(int i, const std::vector<EdgeTerms>& terms) const {
+  return sum_terms(i, [&terms](int face) -> const EdgeTerms& { return terms[static_cast<std::size_t>(face)]; });
+}
+
 Eigen::Vector3d FaceFans::rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& means, const double* x,
                                   const OneSided& one_sided) const {
+  if (x) {
+    return sum_terms(i, [&](int face) {
+      return edge_terms(face, means[static_cast<std::size_t>(face)], rest, x, one_sided);
+    });
+  }
   Vec b = Vec::Zero();
   const Vec ri = row(rest, i);
   for (int k = offset_[static_cast<std::size_t>(i)]; k < offset_[static_cast<std::size_t>(i) + 1]; ++k) {
     const Face& f = faces_[static_cast<std::size_t>(k)];
-    const Eigen::Matrix3d& mean = means[static_cast<std::size_t>(f.face)];
     const Vec ej = row(rest, f.j) - ri, en = row(rest, f.n) - ri;
-    if (!x) {
-      b += mean * (f.wj * ej + f.wn * en);
-      continue;
-    }
-    // The target t = (mean + I) r, scaled, minus the rest edge r.
-    const auto target = [&](int j, const Vec& r) -> Vec {
-      const Vec t = mean * r + r;
-      const double tt = t.squaredNorm();
-      const double stretch = tt > 0.0 ? (row(x, j) - row(x, i)).dot(t) / tt : 1.0;
-      return target_scale(stretch, one_sided) * t - r;
-    };
-    b += f.wj * target(f.j, ej) + f.wn * target(f.n, en);
+    b += means[static_cast<std::size_t>(f.face)] * (f.wj * ej + f.wn * en);
   }
   return b;
 }

@@ -56,6 +56,15 @@ class FaceFans {
   Eigen::Vector3d rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& means,
                           const double* x = nullptr, const OneSided& one_sided = {}) const;
 
+  // With x, each edge's term (its scaled target minus its rest edge) is shared by the rows at
+  // its two ends with opposite signs (exactly), so it can be computed once per face: face f's
+  // terms for its edges (c0 c1), (c0 c2), (c1 c2) in corner order, given its mean, and rotated()
+  // with x from all faces' terms (the same sums in the same order: the same bits).
+  using EdgeTerms = std::array<Eigen::Vector3d, 3>;
+  EdgeTerms edge_terms(int face, const Eigen::Matrix3d& mean, const double* rest, const double* x,
+                       const OneSided& one_sided) const;
+  Eigen::Vector3d rotated(int i, const std::vector<EdgeTerms>& terms) const;
+
   // The distinct faces of the fans (each is in up to three rows' fans), and face f's mean of
   // its corners' rot: rotated() takes these means, one per face (computed once, not per row).
   int n_faces() const { return static_cast<int>(corners_.size()); }
@@ -71,6 +80,7 @@ class FaceFans {
   struct Face {
     int j, n;       // the other corners, counter-clockwise from i
     int face;       // index into corners_
+    int corner;     // i's place among the face's corners (j and n follow it cyclically)
     double wj, wn;  // lap's weight of edges (i, j) and (i, n) carried by this face
   };
   struct Spoke {
@@ -79,6 +89,10 @@ class FaceFans {
   };
   // Adds w (r_a - r_b) to the spoke of ring vertex a of row i (the row being built).
   void add_spoke(int i, int a, int b, double w, const double* rest);
+  // The row's sum over its fan of wj (term of edge i j) + wn (term of edge i n), terms(face)
+  // giving the face's EdgeTerms.
+  template <class Terms>
+  Eigen::Vector3d sum_terms(int i, const Terms& terms) const;
 
   std::vector<int> offset_, spoke_offset_;
   std::vector<Face> faces_;

@@ -151,6 +151,7 @@ struct NonlinearSolver::Data {
   std::vector<double> scale;
   std::vector<Eigen::Matrix3d> rot;  // scale * rotation - identity per local vertex (workspace)
   std::vector<Eigen::Matrix3d> means;      // per face of the fans (arap_rows' workspace)
+  std::vector<FaceFans::EdgeTerms> terms;  // per face of the fans, with one-sided targets (arap_rows')
   std::vector<Eigen::Matrix3d> cov, cov2;  // workspace of the rotation fit
   // The membrane term (add_membrane): its weight, and at order 2 its own rotations, fitted to
   // the 1-ring alone (ARAP's local step), with its rotated minus rest edges (P x 3).
@@ -499,12 +500,19 @@ void NonlinearSolver::arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::
                                 const OneSided* one_sided) {
   Data& d = *d_;
   out.resize(n_free_, 3);
-  const double* x = one_sided ? d.x.data() : nullptr;
-  const OneSided target = one_sided ? *one_sided : OneSided{};
-  d.means.resize(static_cast<std::size_t>(d.fans->n_faces()));
+  const auto faces = static_cast<std::size_t>(d.fans->n_faces());
+  if (one_sided) {  // each edge's term once per face, not once per row at either end
+    d.terms.resize(faces);
+    parallel_rows(d.fans->n_faces(), [&](int f) {
+      d.terms[static_cast<std::size_t>(f)] =
+          d.fans->edge_terms(f, d.fans->mean(f, rot), d.rest.data(), d.x.data(), *one_sided);
+    });
+    parallel_rows(n_free_, [&](int i) { out.row(i) = d.fans->rotated(i, d.terms).transpose(); });
+    return;
+  }
+  d.means.resize(faces);
   parallel_rows(d.fans->n_faces(), [&](int f) { d.means[static_cast<std::size_t>(f)] = d.fans->mean(f, rot); });
-  parallel_rows(n_free_,
-                [&](int i) { out.row(i) = d.fans->rotated(i, d.rest.data(), d.means, x, target).transpose(); });
+  parallel_rows(n_free_, [&](int i) { out.row(i) = d.fans->rotated(i, d.rest.data(), d.means).transpose(); });
 }
 
 void NonlinearSolver::keep_volumes() {
