@@ -2,6 +2,7 @@
 
 #include "freeform/common/cpu_features.h"
 #include "freeform/common/parallel.h"
+#include "freeform/numerics/csr.h"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -31,6 +32,8 @@ using Sweep = detail::SupernodalSweep;
 // Subtrees are split until none holds more than this share of the factor: enough for 16 cores
 // to balance, and the top of the tree they leave (the solve's serial part) stays a few percent.
 constexpr double kSubtreeShare = 1.0 / 64.0;
+// Rows per chunk of the permuted gather and scatter around the sweeps.
+constexpr std::ptrdiff_t kCopyGrain = 4096;
 
 struct Block {
   int ncol, nrow;
@@ -477,12 +480,17 @@ std::optional<Eigen::MatrixXd> SupernodalSolve::solve(const SupernodalFactor& f,
   const int n = f.n;
   const int cols = static_cast<int>(b.cols());
   const int m = (cols + 3) / 4 * 4;  // each row a whole number of 4-wide vectors
-  // y: P b, row-major, so that a supernode gathers each of its rows from one place.
-  std::vector<double> y(static_cast<std::size_t>(n) * static_cast<std::size_t>(m), 0.0);
-  for (int k = 0; k < n; ++k) {
-    const int row = f.perm ? f.perm[k] : k;
-    for (int j = 0; j < cols; ++j) y[static_cast<std::size_t>(k) * m + j] = b(row, j);
-  }
+  // y: P b, row-major, so that a supernode gathers each of its rows from one place; gathered
+  // (and first touched) on the pool, as x is scattered below.
+  std::vector<double, UninitializedAllocator<double>> y(static_cast<std::size_t>(n) * static_cast<std::size_t>(m));
+  parallel_for(n, kCopyGrain, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (auto k = static_cast<int>(lo); k < hi; ++k) {
+      const int row = f.perm ? f.perm[k] : k;
+      double* yk = y.data() + static_cast<std::size_t>(k) * m;
+      for (int j = 0; j < cols; ++j) yk[j] = b(row, j);
+      std::fill(yk + cols, yk + m, 0.0);
+    }
+  });
   // Per subtree: its workspace, then its contributions to the rows above it.
   std::vector<std::size_t> offset(subtrees_.size() + 1, 0);
   for (std::size_t i = 0; i < subtrees_.size(); ++i) {
@@ -517,10 +525,12 @@ std::optional<Eigen::MatrixXd> SupernodalSolve::solve(const SupernodalFactor& f,
       backward_subtree(f, subtrees_[i], sweep, work_of(i));
   });
   Eigen::MatrixXd x(n, cols);
-  for (int k = 0; k < n; ++k) {
-    const int row = f.perm ? f.perm[k] : k;
-    for (int j = 0; j < cols; ++j) x(row, j) = y[static_cast<std::size_t>(k) * m + j];
-  }
+  parallel_for(n, kCopyGrain, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (auto k = static_cast<int>(lo); k < hi; ++k) {
+      const int row = f.perm ? f.perm[k] : k;
+      for (int j = 0; j < cols; ++j) x(row, j) = y[static_cast<std::size_t>(k) * m + j];
+    }
+  });
   return x;
 }
 
