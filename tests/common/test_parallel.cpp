@@ -7,6 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
+#include <mutex>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -87,4 +90,41 @@ TEST(RunTasks, CountsItsThreadsCpuTimeForTheCaller) {
     for (int i = 0; i < 20000000; ++i) x = x + 1e-9 * i;
   });
   EXPECT_GT(freeform::helper_cpu_ms(), before);
+}
+
+// After a worker stalled inside a chunk (another process had its core), loops run on the caller
+// alone for a while; forget_parallel_stalls() (a thread of our own that ran beside the pool has
+// ended) gives the next loop the pool again. Without it, the precompute's factorization after the
+// ordering ahead ran on one core.
+TEST(ParallelFor, AStallIsForgottenWhenOurOwnThreadEnds) {
+  if (freeform::parallel_workers() == 0) GTEST_SKIP() << "one hardware thread";
+  using namespace std::chrono_literals;
+  freeform::forget_parallel_stalls();
+  const std::thread::id caller = std::this_thread::get_id();
+  // A stall: the caller's chunk waits until a worker has taken the other one, which sleeps for
+  // longer than the caller's own share (its wait for the worker) and than the pool's threshold.
+  std::atomic<bool> worker_started{false};
+  const auto begin = std::chrono::steady_clock::now();
+  parallel_for(2, 1, [&](std::ptrdiff_t, std::ptrdiff_t) {
+    if (std::this_thread::get_id() != caller) {
+      worker_started = true;
+      std::this_thread::sleep_for(20ms + 2 * (std::chrono::steady_clock::now() - begin));
+      return;
+    }
+    for (int i = 0; i < 200 && !worker_started; ++i) std::this_thread::sleep_for(1ms);
+  });
+  if (!worker_started) GTEST_SKIP() << "no worker ran within 200 ms";
+  const auto threads_of_a_loop = [] {
+    std::mutex m;
+    std::set<std::thread::id> ids;
+    parallel_for(64, 1, [&](std::ptrdiff_t, std::ptrdiff_t) {
+      std::this_thread::sleep_for(1ms);
+      const std::lock_guard lock(m);
+      ids.insert(std::this_thread::get_id());
+    });
+    return ids;
+  };
+  EXPECT_EQ(threads_of_a_loop(), std::set<std::thread::id>{caller});  // backing off: the caller alone
+  freeform::forget_parallel_stalls();
+  EXPECT_GT(threads_of_a_loop().size(), 1u);
 }

@@ -11,7 +11,10 @@ std::atomic<int> held{0};
 }
 
 HeldThread::HeldThread() { ++held; }
-HeldThread::~HeldThread() { --held; }
+HeldThread::~HeldThread() {
+  --held;
+  forget_parallel_stalls();
+}
 
 int threads_free() { return std::max(1, thread_budget() - held.load()); }
 

@@ -54,6 +54,10 @@ class Pool {
   bool run(std::ptrdiff_t n, std::ptrdiff_t chunk, ParallelBody body) {
     const std::unique_lock busy(busy_, std::try_to_lock);
     if (!busy.owns_lock()) return false;
+    if (forget_.exchange(false, std::memory_order_relaxed)) {
+      solo_loops_ = 0;
+      backoff_ = kMinBackoff;
+    }
     if (solo_loops_ > 0) {
       --solo_loops_;
       return false;
@@ -95,6 +99,7 @@ class Pool {
     }
     return true;
   }
+  void forget_stalls() { forget_.store(true, std::memory_order_relaxed); }
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -103,6 +108,7 @@ class Pool {
   std::mutex busy_;   // one loop at a time; guards solo_loops_ and backoff_
   int solo_loops_ = 0;
   int backoff_ = kMinBackoff;
+  std::atomic<bool> forget_{false};  // set by forget_stalls(), applied by the next loop
   std::mutex mutex_;  // generation_, stop_
   std::condition_variable wake_;
   std::uint32_t generation_ = 0;
@@ -220,6 +226,8 @@ BlasThreads::~BlasThreads() {
 
 double helper_cpu_ms() { return helpers_cpu; }
 
+void forget_parallel_stalls() { Pool::get().forget_stalls(); }
+
 void run_tasks(int n, const std::function<void(int)>& task) {
   std::atomic<int> next{0};
   std::atomic<double> cpu{0};
@@ -251,6 +259,7 @@ void run_tasks(int n, const std::function<void(int)>& task) {
   }
   work();
   for (std::thread& t : threads) t.join();
+  if (!threads.empty()) forget_parallel_stalls();  // they made the pool's workers stall, not another process
   helpers_cpu += cpu.load();
   if (error) std::rethrow_exception(error);
 }

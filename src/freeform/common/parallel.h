@@ -33,6 +33,12 @@ void parallel_for(std::ptrdiff_t n, std::ptrdiff_t grain, const F& body) {
                                       }});
 }
 
+// Forgets the stalls that made parallel_for run its loops on the caller alone (above): for a
+// thread of this process that ran beside the pool and has ended (the ordering ahead,
+// run_tasks' threads). Its own work preempted the workers, not another process; without this
+// the precompute's next thousands of loops, its factorization among them, ran on one core.
+void forget_parallel_stalls();
+
 // Pool threads besides the caller (hardware threads - 1, at least 0; FREEFORM_THREADS=N caps
 // the total at N).
 int parallel_workers();
