@@ -148,9 +148,8 @@ Eigen::Vector3d FaceFans::rotated(int i, const std::vector<EdgeTerms>& terms) co
 Eigen::Vector3d FaceFans::rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& means, const double* x,
                                   const OneSided& one_sided) const {
   if (x) {
-    return sum_terms(i, [&](int face) {
-      return edge_terms(face, means[static_cast<std::size_t>(face)], rest, x, one_sided);
-    });
+    return sum_terms(
+        i, [&](int face) { return edge_terms(face, means[static_cast<std::size_t>(face)], rest, x, one_sided); });
   }
   Vec b = Vec::Zero();
   const Vec ri = row(rest, i);
