@@ -321,7 +321,7 @@ BcmSystem assemble_bcm_system(const Mesh& mesh, const VertexData<Vec3>& position
     column_block(top, 0, n_inner, sign, false).swap(sys.outer);
   }
   // Swapped in, not assigned: Eigen 3.4's SparseMatrix has no move assignment, and assigning
-  // the returned blocks copied them on one thread (A_pp: 0.3 s and 443 MB more at 1M free, k = 3).
+  // the returned blocks copied them on one thread, with two copies of A_pp held at once.
   sys.lap = column_block(lap, 0, n_loc, 1.0, false);  // a conversion to rows: a copy either way
   column_block(*s_rows, 0, n_free, sign, false).swap(sys.a_pp);
   column_block(*s_rows, n_free, n_loc, sign, n_free > 0).swap(sys.a_pc);  // without the exact zeros of A_pc

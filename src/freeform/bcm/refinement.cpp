@@ -28,7 +28,7 @@ void for_rows(int rows, const F& f) {
 
 // next(r, :) = sum_c lap(r, c) w(c) z(c, :) for rows [0, rows), row-major d columns. Each row is
 // zeroed by the thread that sums it: a serial fill (and, the first time, the page faults of a
-// fresh allocation) took a second of one thread at 1M free vertices.
+// fresh allocation) kept one core busy and the others idle on large supports.
 void level_product(const RowSp& lap, const double* w, const LdVector& z, int rows, int d, LdVector& next) {
   next.resize(static_cast<std::size_t>(rows) * static_cast<std::size_t>(d));
   parallel_for(rows, kGrain, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
