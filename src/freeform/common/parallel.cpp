@@ -21,6 +21,11 @@ namespace {
 
 constexpr std::chrono::microseconds kSpin{50};
 
+// Set by forget_parallel_stalls(), applied by the pool's next loop. Outside the pool: a
+// detached thread (an ordering ahead that outlives its precompute) may set it after the pool,
+// a function-local static, was destroyed at exit.
+std::atomic<bool> forget_stalls{false};
+
 // OpenBLAS and libgomp read their own variables when they load; FREEFORM_THREADS reaches
 // them through their setters, looked up at run time so that neither is a link dependency.
 void cap_library_threads(int n) {
@@ -54,7 +59,7 @@ class Pool {
   bool run(std::ptrdiff_t n, std::ptrdiff_t chunk, ParallelBody body) {
     const std::unique_lock busy(busy_, std::try_to_lock);
     if (!busy.owns_lock()) return false;
-    if (forget_.exchange(false, std::memory_order_relaxed)) {
+    if (forget_stalls.exchange(false, std::memory_order_relaxed)) {
       solo_loops_ = 0;
       backoff_ = kMinBackoff;
     }
@@ -99,7 +104,6 @@ class Pool {
     }
     return true;
   }
-  void forget_stalls() { forget_.store(true, std::memory_order_relaxed); }
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -108,7 +112,6 @@ class Pool {
   std::mutex busy_;   // one loop at a time; guards solo_loops_ and backoff_
   int solo_loops_ = 0;
   int backoff_ = kMinBackoff;
-  std::atomic<bool> forget_{false};  // set by forget_stalls(), applied by the next loop
   std::mutex mutex_;  // generation_, stop_
   std::condition_variable wake_;
   std::uint32_t generation_ = 0;
@@ -226,7 +229,7 @@ BlasThreads::~BlasThreads() {
 
 double helper_cpu_ms() { return helpers_cpu; }
 
-void forget_parallel_stalls() { Pool::get().forget_stalls(); }
+void forget_parallel_stalls() { forget_stalls.store(true, std::memory_order_relaxed); }
 
 void run_tasks(int n, const std::function<void(int)>& task) {
   std::atomic<int> next{0};
