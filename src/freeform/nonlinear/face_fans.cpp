@@ -127,12 +127,11 @@ FaceFans::EdgeTerms FaceFans::edge_terms(int face, const Eigen::Matrix3d& mean, 
   return {term(c[0], c[1]), term(c[0], c[2]), term(c[1], c[2])};
 }
 
-template <class Terms>
-Eigen::Vector3d FaceFans::sum_terms(int i, const Terms& terms) const {
+Eigen::Vector3d FaceFans::rotated(int i, const std::vector<EdgeTerms>& terms) const {
   Vec b = Vec::Zero();
   for (int k = offset_[static_cast<std::size_t>(i)]; k < offset_[static_cast<std::size_t>(i) + 1]; ++k) {
     const Face& f = faces_[static_cast<std::size_t>(k)];
-    const EdgeTerms& t = terms(f.face);
+    const EdgeTerms& t = terms[static_cast<std::size_t>(f.face)];
     // Row i at corner 0 has edges 01 and 02; at 1, 12 and 10; at 2, 20 and 21.
     const Vec tj = f.corner == 0 ? t[0] : f.corner == 1 ? t[2] : Vec(-t[1]);
     const Vec tn = f.corner == 0 ? t[1] : f.corner == 1 ? Vec(-t[0]) : Vec(-t[2]);
@@ -141,16 +140,7 @@ Eigen::Vector3d FaceFans::sum_terms(int i, const Terms& terms) const {
   return b;
 }
 
-Eigen::Vector3d FaceFans::rotated(int i, const std::vector<EdgeTerms>& terms) const {
-  return sum_terms(i, [&terms](int face) -> const EdgeTerms& { return terms[static_cast<std::size_t>(face)]; });
-}
-
-Eigen::Vector3d FaceFans::rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& means, const double* x,
-                                  const OneSided& one_sided) const {
-  if (x) {
-    return sum_terms(
-        i, [&](int face) { return edge_terms(face, means[static_cast<std::size_t>(face)], rest, x, one_sided); });
-  }
+Eigen::Vector3d FaceFans::rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& means) const {
   Vec b = Vec::Zero();
   const Vec ri = row(rest, i);
   for (int k = offset_[static_cast<std::size_t>(i)]; k < offset_[static_cast<std::size_t>(i) + 1]; ++k) {

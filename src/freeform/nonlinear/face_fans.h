@@ -50,16 +50,15 @@ class FaceFans {
   // rotation minus the identity; constrained corners with their own), given per face in
   // `means` (mean()): the gradient of the spokes-and-rims energy. lap's weight of each edge is
   // split between its faces in proportion to their |cotangent|, so a common rot of all corners
-  // gives rot * (lap rest)_i exactly. With x (the current positions), each edge's target M r is
-  // also scaled by target_scale() of its stretch along the target (a one-sided membrane;
-  // exactly 1 at rest and under rigid motions, so those stay exact).
-  Eigen::Vector3d rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& means,
-                          const double* x = nullptr, const OneSided& one_sided = {}) const;
+  // gives rot * (lap rest)_i exactly.
+  Eigen::Vector3d rotated(int i, const double* rest, const std::vector<Eigen::Matrix3d>& means) const;
 
-  // With x, each edge's term (its scaled target minus its rest edge) is shared by the rows at
-  // its two ends with opposite signs (exactly), so it can be computed once per face: face f's
-  // terms for its edges (c0 c1), (c0 c2), (c1 c2) in corner order, given its mean, and rotated()
-  // with x from all faces' terms (the same sums in the same order: the same bits).
+  // The same with one-sided targets at the current positions x: each edge's target M r also
+  // scaled by target_scale() of its stretch along it (exactly 1 at rest and under rigid motions,
+  // so those stay exact). An edge's term (scaled target minus rest edge) is shared by the rows at
+  // its two ends with opposite signs (exactly), so it is computed once per face: edge_terms()
+  // gives face f's terms for its edges (c0 c1), (c0 c2), (c1 c2) in corner order, and rotated()
+  // sums each row's from them.
   using EdgeTerms = std::array<Eigen::Vector3d, 3>;
   EdgeTerms edge_terms(int face, const Eigen::Matrix3d& mean, const double* rest, const double* x,
                        const OneSided& one_sided) const;
@@ -89,10 +88,6 @@ class FaceFans {
   };
   // Adds w (r_a - r_b) to the spoke of ring vertex a of row i (the row being built).
   void add_spoke(int i, int a, int b, double w, const double* rest);
-  // The row's sum over its fan of wj (term of edge i j) + wn (term of edge i n), terms(face)
-  // giving the face's EdgeTerms.
-  template <class Terms>
-  Eigen::Vector3d sum_terms(int i, const Terms& terms) const;
 
   std::vector<int> offset_, spoke_offset_;
   std::vector<Face> faces_;
