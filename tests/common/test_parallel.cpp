@@ -2,12 +2,17 @@
 // two threads start loops at once (one of them then runs alone) and after many loops in a row
 // (generations of the pool's job slot). run_tasks: every task once on up to thread_budget()
 // threads, the first exception rethrown after all tasks ran, its threads' CPU time counted.
+// Both: never more threads than the budget with the threads held beside them (held_threads.h).
 #include "freeform/common/parallel.h"
+
+#include "freeform/common/held_threads.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <stdexcept>
@@ -28,6 +33,25 @@ void expect_each_index_once(std::ptrdiff_t n, std::ptrdiff_t grain) {
     for (std::ptrdiff_t i = lo; i < hi; ++i) hits[static_cast<std::size_t>(i)].fetch_add(1);
   });
   for (std::ptrdiff_t i = 0; i < n; ++i) ASSERT_EQ(hits[static_cast<std::size_t>(i)].load(), 1) << "n " << n << " i " << i;
+}
+
+// The threads that ran a loop of 64 chunks of 1 ms each.
+std::set<std::thread::id> threads_of_a_loop() {
+  std::mutex m;
+  std::set<std::thread::id> ids;
+  parallel_for(64, 1, [&](std::ptrdiff_t, std::ptrdiff_t) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    const std::lock_guard lock(m);
+    ids.insert(std::this_thread::get_id());
+  });
+  return ids;
+}
+
+// Holds all of the budget but the caller's thread.
+std::vector<std::unique_ptr<freeform::HeldThread>> hold_all_but_one() {
+  std::vector<std::unique_ptr<freeform::HeldThread>> held;
+  for (int i = 1; i < freeform::thread_budget(); ++i) held.push_back(std::make_unique<freeform::HeldThread>());
+  return held;
 }
 
 }  // namespace
@@ -114,17 +138,38 @@ TEST(ParallelFor, AStallIsForgottenWhenOurOwnThreadEnds) {
     for (int i = 0; i < 200 && !worker_started; ++i) std::this_thread::sleep_for(1ms);
   });
   if (!worker_started) GTEST_SKIP() << "no worker ran within 200 ms";
-  const auto threads_of_a_loop = [] {
-    std::mutex m;
-    std::set<std::thread::id> ids;
-    parallel_for(64, 1, [&](std::ptrdiff_t, std::ptrdiff_t) {
-      std::this_thread::sleep_for(1ms);
-      const std::lock_guard lock(m);
-      ids.insert(std::this_thread::get_id());
-    });
-    return ids;
-  };
   EXPECT_EQ(threads_of_a_loop(), std::set<std::thread::id>{caller});  // backing off: the caller alone
   freeform::forget_parallel_stalls();
   EXPECT_GT(threads_of_a_loop().size(), 1u);
+}
+
+TEST(ParallelFor, HeldThreadsTakeTheWorkersSeats) {
+  if (freeform::parallel_workers() == 0) GTEST_SKIP() << "one hardware thread";
+  freeform::forget_parallel_stalls();
+  auto held = hold_all_but_one();
+  EXPECT_EQ(threads_of_a_loop(), std::set<std::thread::id>{std::this_thread::get_id()});  // the budget is spent
+  held.clear();
+  EXPECT_GT(threads_of_a_loop().size(), 1u);
+}
+
+TEST(RunTasks, ItsThreadsHoldTheirSeats) {
+  const int budget = freeform::thread_budget();
+  std::mutex m;
+  std::set<std::thread::id> ids;
+  int least_free = budget;
+  const auto task = [&](int) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    const std::lock_guard lock(m);
+    ids.insert(std::this_thread::get_id());
+    least_free = std::min(least_free, freeform::threads_free());
+  };
+  freeform::run_tasks(4 * budget, task);
+  ASSERT_LE(static_cast<int>(ids.size()), budget);
+  // Each thread it started held a seat, which the pool's loops meanwhile could not take.
+  EXPECT_LE(least_free, std::max(1, budget - static_cast<int>(ids.size()) + 1));
+  EXPECT_EQ(freeform::threads_free(), budget);  // all seats given back
+  const auto held = hold_all_but_one();
+  ids.clear();
+  freeform::run_tasks(8, task);
+  EXPECT_EQ(ids, std::set<std::thread::id>{std::this_thread::get_id()});
 }

@@ -1,5 +1,6 @@
 #include "freeform/common/parallel.h"
 
+#include "freeform/common/held_threads.h"
 #include "freeform/common/phase_clock.h"
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <cstdlib>
 #include <dlfcn.h>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <string_view>
 #include <system_error>
@@ -69,6 +71,11 @@ class Pool {
     }
     const auto chunks = static_cast<std::uint32_t>((n + chunk - 1) / chunk);
     if (chunks > kMaxChunks) return false;
+    // Never more threads than the budget: those held beside the caller (the ordering ahead and
+    // its parts, held_threads.h) take workers' seats.
+    const int seats = threads_free() - 1;
+    if (seats <= 0) return false;
+    seats_.store(seats, std::memory_order_relaxed);
     const auto start = Clock::now();
     body_.store(body.object, std::memory_order_relaxed);
     call_.store(body.call, std::memory_order_relaxed);
@@ -118,6 +125,9 @@ class Pool {
   int sleepers_ = 0;  // workers waiting on wake_
   bool stop_ = false;
   std::atomic<std::uint32_t> published_{0};  // generation_, read by spinning workers
+  // Workers that may join the current loop. A worker late for a loop may take a seat of the
+  // next: that loop then runs on fewer threads, never on more.
+  std::atomic<int> seats_{0};
   // The current loop. next_ = generation << 32 | chunk count << 16 | next chunk: the count
   // travels with the generation, because a worker still in the previous loop that compared
   // its stale index with chunks_ after the caller had stored the next loop's count could take
@@ -190,7 +200,7 @@ class Pool {
         now = generation_;
       }
       seen = now;
-      work(seen);
+      if (seats_.fetch_sub(1, std::memory_order_acq_rel) > 0) work(seen);
     }
   }
 };
@@ -247,9 +257,12 @@ void run_tasks(int n, const std::function<void(int)>& task) {
     }
   };
   std::vector<std::thread> threads;
-  for (int t = 1; t < std::min(n, thread_budget()); ++t) {
+  // Besides the caller, the threads the budget leaves free, less one for the pool's caller (the
+  // caller of this, or the thread it runs beside); each holds its seat while it runs.
+  const int helpers = std::min(n, threads_free()) - 1;
+  for (int t = 0; t < helpers; ++t) {
     try {
-      threads.emplace_back([&] {
+      threads.emplace_back([&, held = std::make_shared<HeldThread>()] {
         const double start = PhaseClock::thread_cpu_ms();
         work();
         const double used = PhaseClock::thread_cpu_ms() - start;

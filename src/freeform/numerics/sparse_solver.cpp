@@ -147,6 +147,7 @@ struct Cholmod : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
     }
     cholmod_sparse s = cholmod_lower_view(static_cast<std::size_t>(lower.rows()), p.inner.size(), p.outer.data(),
                                           p.inner.data(), p.value.data());
+    const BlasThreads blas(threads_free());  // beside the ordering ahead: the cores it leaves
     cholmod_super_numeric(&s, nullptr, this->m_shiftOffset, l, &this->cholmod());
     this->m_info = l->minor == l->n ? Eigen::Success : Eigen::NumericalIssue;
     this->m_factorizationIsOk = true;

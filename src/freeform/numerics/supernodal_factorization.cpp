@@ -1,5 +1,6 @@
 #include "freeform/numerics/supernodal_factorization.h"
 
+#include "freeform/common/held_threads.h"
 #include "freeform/common/parallel.h"
 
 #include <algorithm>
@@ -204,12 +205,12 @@ int Factorization::top_supernode(int s, int* map) {
 }
 
 int Factorization::run(const SupernodalSolve& schedule) {
-  // The BLAS on one thread while the pool calls it from several, then with the threads OpenBLAS
-  // already has (never more: a new one would need a buffer that memory_limit.h did not count)
-  // for the top's potrf and trsm. The pool's threads, not new ones, call it: OpenBLAS keeps a
-  // work buffer per calling thread, and under an address-space limit a new thread's buffer can
-  // fail, which OpenBLAS retries forever.
-  blas_threads_ = std::max(blas_threads(), 1);
+  // The BLAS on one thread while the pool calls it from several, then for the top's potrf and
+  // trsm with the threads OpenBLAS already has (never more: a new one would need a buffer that
+  // memory_limit.h did not count), at most those the budget leaves free (held_threads.h). The
+  // pool's threads, not new ones, call it: OpenBLAS keeps a work buffer per calling thread, and
+  // under an address-space limit a new thread's buffer can fail, which OpenBLAS retries forever.
+  blas_threads_ = std::clamp(blas_threads(), 1, threads_free());
   const BlasThreads one(1);
   const int parts = schedule.subtrees();
   std::vector<std::vector<std::pair<int, int>>> exits(static_cast<std::size_t>(parts));
