@@ -13,6 +13,7 @@
 #include <chrono>
 #include <future>
 #include <memory>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -164,6 +165,23 @@ TEST(BcmAnalysis, NeverMoreAnalysesAheadThanCoresBesideTheCaller) {
       EXPECT_NE(a->get(), nullptr);
     }
   EXPECT_EQ(threads_free(), thread_budget());
+}
+
+// The columns walked in blocks on several threads give the matrix walked in one block (the
+// budget held elsewhere), values 0.
+TEST(BcmAnalysis, PatternIsTheSameWalkedInBlocks) {
+  if (thread_budget() < 2) GTEST_SKIP() << "FREEFORM_THREADS=1: one block";
+  const LargePlane p;
+  const Regions regions = p.regions(0.001);
+  for (int k = 1; k <= 3; ++k) {
+    SCOPED_TRACE("k = " + std::to_string(k));
+    const SpMat in_blocks = bcm_lower_pattern(p.mesh, regions, k);
+    std::vector<std::unique_ptr<HeldThread>> held;
+    for (int i = 1; i < thread_budget(); ++i) held.push_back(std::make_unique<HeldThread>());
+    const SpMat in_one = bcm_lower_pattern(p.mesh, regions, k);
+    expect_same_pattern(in_one, in_blocks);
+    for (Eigen::Index t = 0; t < in_blocks.nonZeros(); ++t) ASSERT_EQ(in_blocks.valuePtr()[t], 0.0) << t;
+  }
 }
 
 TEST(BcmAnalysis, PatternStopsWhenAsked) {

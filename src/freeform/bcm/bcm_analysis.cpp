@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <exception>
 #include <system_error>
 #include <thread>
@@ -29,6 +30,9 @@ bool expect_symmetric(const BcmSettings& s) {
 
 // The adjacency among the free vertices and those within `rings` rings of them, in the patch's
 // local indices (free ones 0 .. n-1, in `free`'s order).
+// Columns per block of the pattern's walk, at least: a block allocates a marker per local vertex.
+constexpr int kMinBlockColumns = 8192;
+
 struct LocalGraph {
   std::vector<int> offset, to;  // the neighbours of local vertex l: to[offset[l] .. offset[l + 1])
 };
@@ -46,41 +50,69 @@ LocalGraph local_graph(const Mesh& mesh, const std::vector<Vertex>& free, int ri
   return g;
 }
 
+// Column j's rows below it: the free vertices within `order` rings of j, sorted. seen (one
+// entry per local vertex) marks the vertices met for column j with j.
+void walk_column(const LocalGraph& g, int n, int order, int j, std::vector<int>& seen, std::vector<int>& frontier,
+                 std::vector<int>& next, std::vector<int>& column) {
+  column.assign(1, j);
+  frontier.assign(1, j);
+  seen[static_cast<std::size_t>(j)] = j;
+  for (int depth = 0; depth < order; ++depth) {
+    next.clear();
+    for (int u : frontier)
+      for (int t = g.offset[static_cast<std::size_t>(u)]; t < g.offset[static_cast<std::size_t>(u) + 1]; ++t) {
+        const int w = g.to[static_cast<std::size_t>(t)];
+        if (seen[static_cast<std::size_t>(w)] == j) continue;
+        seen[static_cast<std::size_t>(w)] = j;
+        next.push_back(w);
+        if (w > j && w < n) column.push_back(w);
+      }
+    frontier.swap(next);
+  }
+  std::sort(column.begin(), column.end());
+}
+
 }  // namespace
 
 // A walk expands the vertices at depth 0 .. order-1, which lie within order-1 rings of the free
-// set; deeper ones are never free, so the local graph leaves them out.
+// set; deeper ones are never free, so the local graph leaves them out. The columns are walked in
+// contiguous blocks, one per thread the budget leaves free (run_tasks), and written into the
+// matrix's own arrays: the same matrix on any number of threads.
 Eigen::SparseMatrix<double> bcm_lower_pattern(const Mesh& mesh, const Regions& regions, int order,
                                               const std::atomic<bool>* stop) {
   const std::vector<Vertex> free = breadth_first_order(mesh, regions.free_vertices());
   const int n = static_cast<int>(free.size());
   const LocalGraph g = local_graph(mesh, free, order - 1);
-  std::vector<int> seen(g.offset.size() - 1, -1);
-  std::vector<int> outer(static_cast<std::size_t>(n) + 1, 0), inner, column, frontier, next;
-  for (int j = 0; j < n; ++j) {
-    if (stop && j % 4096 == 0 && stop->load(std::memory_order_relaxed)) return {};
-    column.assign(1, j);
-    frontier.assign(1, j);
-    seen[static_cast<std::size_t>(j)] = j;
-    for (int depth = 0; depth < order; ++depth) {
-      next.clear();
-      for (int u : frontier)
-        for (int t = g.offset[static_cast<std::size_t>(u)]; t < g.offset[static_cast<std::size_t>(u) + 1]; ++t) {
-          const int w = g.to[static_cast<std::size_t>(t)];
-          if (seen[static_cast<std::size_t>(w)] == j) continue;
-          seen[static_cast<std::size_t>(w)] = j;
-          next.push_back(w);
-          if (w > j && w < n) column.push_back(w);
-        }
-      frontier.swap(next);
+  const int blocks = std::clamp(n / kMinBlockColumns, 1, threads_free());
+  const auto first = [&](int b) { return static_cast<int>(static_cast<std::int64_t>(n) * b / blocks); };
+  std::vector<std::vector<int>> rows(static_cast<std::size_t>(blocks));
+  std::vector<int> outer(static_cast<std::size_t>(n) + 1, 0);  // column counts, then offsets
+  std::atomic<bool> stopped{false};
+  run_tasks(blocks, [&](int b) {
+    std::vector<int> seen(g.offset.size() - 1, -1), column, frontier, next;
+    std::vector<int>& inner = rows[static_cast<std::size_t>(b)];
+    for (int j = first(b); j < first(b + 1); ++j) {
+      if (stop && j % 4096 == 0 && stop->load(std::memory_order_relaxed)) {
+        stopped = true;
+        return;
+      }
+      walk_column(g, n, order, j, seen, frontier, next, column);
+      inner.insert(inner.end(), column.begin(), column.end());
+      outer[static_cast<std::size_t>(j) + 1] = static_cast<int>(column.size());
     }
-    std::sort(column.begin(), column.end());
-    inner.insert(inner.end(), column.begin(), column.end());
-    outer[static_cast<std::size_t>(j) + 1] = static_cast<int>(inner.size());
-  }
-  const std::vector<double> zeros(inner.size(), 0.0);
-  return Eigen::SparseMatrix<double>(Eigen::Map<const Eigen::SparseMatrix<double>>(
-      n, n, static_cast<Eigen::Index>(inner.size()), outer.data(), inner.data(), zeros.data()));
+  });
+  if (stopped) return {};
+  for (int j = 0; j < n; ++j) outer[static_cast<std::size_t>(j) + 1] += outer[static_cast<std::size_t>(j)];
+  Eigen::SparseMatrix<double> lower(n, n);
+  lower.resizeNonZeros(outer.back());
+  std::copy(outer.begin(), outer.end(), lower.outerIndexPtr());
+  run_tasks(blocks, [&](int b) {
+    const std::vector<int>& inner = rows[static_cast<std::size_t>(b)];
+    const int at = outer[static_cast<std::size_t>(first(b))];
+    std::copy(inner.begin(), inner.end(), lower.innerIndexPtr() + at);
+    std::fill_n(lower.valuePtr() + at, inner.size(), 0.0);
+  });
+  return lower;
 }
 
 struct BcmAnalysis::Shared {
