@@ -4,6 +4,7 @@
 #include "freeform/common/json_messages.h"
 #include "freeform/common/parallel.h"
 #include "freeform/nonlinear/anderson.h"
+#include "freeform/nonlinear/drift.h"
 #include "freeform/nonlinear/enclosed_volume.h"
 #include "freeform/nonlinear/face_fans.h"
 #include "freeform/nonlinear/ring_smoothing.h"
@@ -170,6 +171,7 @@ struct NonlinearSolver::Data {
   std::optional<EnclosedVolumes> volumes;  // closed components (with preserve_volume)
   Eigen::MatrixXd grad;              // n_inner x 3: volume gradient (workspace)
   std::optional<AndersonAcceleration> anderson;
+  DriftExtrapolation drift;          // moves a sliding iteration on (drift.h)
   bool fitted = false;               // q was fitted to the free rows of x (an image of them may be combined)
   bool accelerated = false;          // x is a combination of images, not a plain image
   bool after_accelerated = false;    // so was the iterate before it (`last`)
@@ -345,6 +347,7 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
   if (linear) d.linear = *linear;
   if (d.volumes) d.volumes->start(transforms, d.scale, handle_s, d.x);
   d.anderson->reset();
+  d.drift.reset();
   d.fitted = d.accelerated = d.residual_checked = false;
   d.best_step = std::numeric_limits<double>::infinity();
   state_ = {};
@@ -437,8 +440,17 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
       // iterate combines it with the previous images.
       Eigen::Map<Eigen::VectorXd> image(d.x.data(), 3 * Eigen::Index(p));
       const Eigen::Map<const Eigen::VectorXd> at(d.last.data(), 3 * Eigen::Index(p));
-      if (!d.fitted) d.anderson->reset();
+      if (!d.fitted) {
+        d.anderson->reset();
+        d.drift.reset();
+      }
       d.accelerated = d.fitted && d.anderson->next(at, image, !small);
+      // A plain image may be moved on along a slide; like a combination, a plain step from it
+      // must confirm convergence, and Anderson's history, of iterates before the jump, goes.
+      if (d.fitted && !d.accelerated && d.drift.next(at, image, !small)) {
+        d.accelerated = true;
+        d.anderson->reset();
+      }
       fit_rotations();
       d.fitted = true;
     } else {
