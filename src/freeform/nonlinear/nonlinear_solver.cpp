@@ -201,6 +201,23 @@ struct NonlinearSolver::Data {
       rhs.row(i) += w * sum.transpose();
     });
   }
+  // x is now the image of `last` (if the rotations were fitted to it); the next iterate combines
+  // it with the previous images (Anderson), or moves a sliding one on along its step (drift.h),
+  // or is the plain image. Like a combination, a moved iterate needs a plain step to confirm
+  // convergence, and Anderson's history, of iterates before the jump, goes.
+  void accelerate(int p, bool small) {
+    Eigen::Map<Eigen::VectorXd> image(x.data(), 3 * Eigen::Index(p));
+    const Eigen::Map<const Eigen::VectorXd> at(last.data(), 3 * Eigen::Index(p));
+    if (!fitted) {
+      anderson->reset();
+      drift.reset();
+    }
+    accelerated = fitted && anderson->next(at, image, !small);
+    if (fitted && !accelerated && drift.next(at, image, !small)) {
+      accelerated = true;
+      anderson->reset();
+    }
+  }
   // Adds each component's response times the multiplier that restores its target volume.
   void restore_volumes(int p, const Eigen::MatrixXd& u) {
     for (int c = 0; c < volumes->count(); ++c) {
@@ -436,21 +453,7 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
     const bool interrupted = interrupt && interrupt->load(std::memory_order_relaxed);
     // Before any other break: the next call starts with a fresh fit.
     if (!state_.converged && !interrupted) {
-      // x is now the image of `last` (if the rotations were fitted to it); the accelerated
-      // iterate combines it with the previous images.
-      Eigen::Map<Eigen::VectorXd> image(d.x.data(), 3 * Eigen::Index(p));
-      const Eigen::Map<const Eigen::VectorXd> at(d.last.data(), 3 * Eigen::Index(p));
-      if (!d.fitted) {
-        d.anderson->reset();
-        d.drift.reset();
-      }
-      d.accelerated = d.fitted && d.anderson->next(at, image, !small);
-      // A plain image may be moved on along a slide; like a combination, a plain step from it
-      // must confirm convergence, and Anderson's history, of iterates before the jump, goes.
-      if (d.fitted && !d.accelerated && d.drift.next(at, image, !small)) {
-        d.accelerated = true;
-        d.anderson->reset();
-      }
+      d.accelerate(p, small);
       fit_rotations();
       d.fitted = true;
     } else {
