@@ -3,13 +3,13 @@
 #include "freeform/common/held_threads.h"
 #include "freeform/common/phase_clock.h"
 
+#include <dlfcn.h>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <cstdlib>
-#include <dlfcn.h>
 #include <exception>
 #include <memory>
 #include <mutex>
