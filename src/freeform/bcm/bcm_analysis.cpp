@@ -28,11 +28,11 @@ bool expect_symmetric(const BcmSettings& s) {
                      [&](const SmoothnessSegment& g) { return even(g.value); });
 }
 
-// The adjacency among the free vertices and those within `rings` rings of them, in the patch's
-// local indices (free ones 0 .. n-1, in `free`'s order).
 // Columns per block of the pattern's walk, at least: a block allocates a marker per local vertex.
 constexpr int kMinBlockColumns = 8192;
 
+// The adjacency among the free vertices and those within `rings` rings of them, in the patch's
+// local indices (free ones 0 .. n-1, in `free`'s order).
 struct LocalGraph {
   std::vector<int> offset, to;  // the neighbours of local vertex l: to[offset[l] .. offset[l + 1])
 };

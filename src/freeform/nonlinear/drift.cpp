@@ -28,8 +28,7 @@ double cosine(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 DriftExtrapolation::DriftExtrapolation() : stretch_(kStretch) {}
 
 void DriftExtrapolation::reset() {
-  last_step_.resize(0);
-  moved_step_.resize(0);
+  has_last_ = false;
   sliding_ = 0;
   stretch_ = kStretch;
   confirming_ = false;
@@ -37,24 +36,27 @@ void DriftExtrapolation::reset() {
 
 bool DriftExtrapolation::next(const Eigen::Ref<const Eigen::VectorXd>& at, Eigen::Ref<Eigen::VectorXd> image,
                               bool move) {
-  const Eigen::VectorXd step = image - at;
+  step_ = image - at;
   if (confirming_) {
     confirming_ = false;
     const bool confirmed =
-        step.norm() < kConfirmRatio * moved_step_.norm() && cosine(step, moved_step_) > kConfirmCosine;
+        step_.norm() < kConfirmRatio * moved_step_.norm() && cosine(step_, moved_step_) > kConfirmCosine;
     stretch_ = confirmed ? std::min(2.0 * stretch_, kMaxStretch) : kStretch;
   }
-  const bool slides = last_step_.size() == step.size() && cosine(step, last_step_) > kSlidingCosine &&
-                      step.norm() > kMinSlidingRatio * last_step_.norm() &&
-                      step.norm() < kMaxSlidingRatio * last_step_.norm();
+  const bool slides = has_last_ && last_step_.size() == step_.size() && cosine(step_, last_step_) > kSlidingCosine &&
+                      step_.norm() > kMinSlidingRatio * last_step_.norm() &&
+                      step_.norm() < kMaxSlidingRatio * last_step_.norm();
   sliding_ = slides ? sliding_ + 1 : 0;
-  last_step_ = step;
-  if (sliding_ < kSlidingSteps || !move) return false;
-  image += (stretch_ - 1.0) * step;
-  moved_step_ = step;
+  if (sliding_ < kSlidingSteps || !move) {
+    last_step_.swap(step_);
+    has_last_ = true;
+    return false;
+  }
+  image += (stretch_ - 1.0) * step_;
+  moved_step_.swap(step_);
   confirming_ = true;
   sliding_ = 0;
-  last_step_.resize(0);
+  has_last_ = false;
   return true;
 }
 

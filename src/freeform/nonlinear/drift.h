@@ -25,8 +25,11 @@ class DriftExtrapolation {
   double stretch() const { return stretch_; }
 
  private:
-  Eigen::VectorXd last_step_;   // the previous plain step (empty after a move or a reset)
+  // The three steps swap their storage: after the first iterations next() allocates nothing.
+  Eigen::VectorXd step_;        // this step (workspace)
+  Eigen::VectorXd last_step_;   // the previous plain step, where has_last_
   Eigen::VectorXd moved_step_;  // the step the last move stretched, until the next plain step
+  bool has_last_ = false;       // false after a move or a reset
   int sliding_ = 0;             // plain steps in a row that kept the one before's direction and size
   double stretch_;              // steps the next move goes on
   bool confirming_ = false;     // the next plain step confirms (or not) the last move
