@@ -59,6 +59,39 @@ TEST(BcmSolver, BasisMatchesDirectSolveWithMovedHandles) {
   }
 }
 
+// The rest solution (one 3-column solve, no basis) is the direct solve with every handle at
+// rest, and what the basis gives there; elsewhere it keeps the mesh's positions.
+TEST(BcmSolver, RestSolutionMatchesDirectSolveAndTheBasis) {
+  const BumpyScene scene;
+  const Regions regions = scene.regions();
+  const std::vector<Eigen::Affine3d> rest(2, Eigen::Affine3d::Identity());
+  for (const Case& c : kCases) {
+    SCOPED_TRACE(describe(c));
+    const BcmSettings s = settings_of(c);
+    const BcmRestSolution fill = bcm_rest_solution(scene.mesh, regions, s);
+    const BcmSolver solver(scene.mesh, regions, s);
+    ASSERT_EQ(fill.free, solver.free_vertices());
+    const RowMatrix want = reference_solve(scene.mesh, regions, s, rest);
+    const RowMatrix basis = evaluate_by_vertex(solver, rest);
+    RowMatrix got(want.rows(), 3);
+    const std::vector<Vertex>& free = regions.free_vertices();
+    for (std::size_t i = 0; i < free.size(); ++i) got.row(static_cast<Eigen::Index>(i)) = fill.positions[free[i]].transpose();
+    EXPECT_LT(rel_diff(got, want), 1e-8);
+    EXPECT_LT(rel_diff(got, basis), 1e-10);
+    // The support really moved off the bumpy mesh (the comparison can fail), the rest did not.
+    RowMatrix mesh_rows(want.rows(), 3);
+    for (std::size_t i = 0; i < free.size(); ++i) mesh_rows.row(static_cast<Eigen::Index>(i)) = scene.mesh.position(free[i]).transpose();
+    EXPECT_GT(rel_diff(got, mesh_rows), 1e-3);
+    for (Vertex v : scene.mesh.vertices())
+      if (regions.role(v) != Role::Free) {
+        EXPECT_EQ(fill.positions[v], scene.mesh.position(v));
+      }
+  }
+  BcmSettings anisotropic;
+  anisotropic.anisotropic = true;
+  EXPECT_THROW(bcm_rest_solution(scene.mesh, regions, anisotropic), InvalidInput);
+}
+
 TEST(BcmSolver, BasisMatchesDirectSolveWithSmoothnessSegmentsAndOpenBoundary) {
   // Support touching the mesh boundary on three sides (free vertices on the open boundary).
   const Mesh mesh = Mesh::from_soup(make_bumpy_plane(20, 20, 0.1, 1.0));

@@ -222,6 +222,25 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   progress.step("refinement", 0.9);
 }
 
+BcmRestSolution bcm_rest_solution(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
+                                  const Progress& progress) {
+  if (settings.anisotropic) throw InvalidInput("bcm_rest_solution: anisotropic bending needs BcmSolver");
+  progress.step("assembly", 0.0);
+  BcmAnalysis analysis(mesh, regions, settings);
+  BcmSystem sys = assemble_bcm_system(mesh, unit_scaled(mesh.positions()), regions, settings);
+  progress.step("factorization", 0.15);
+  const SparseSolver solver = factor_or_explain(sys, settings, analysis.get());
+  Eigen::MatrixXd xc(static_cast<Eigen::Index>(sys.constrained.size()), 3);
+  for (Eigen::Index j = 0; j < xc.rows(); ++j)
+    xc.row(j) = mesh.position(sys.constrained[static_cast<std::size_t>(j)]).transpose();
+  Eigen::MatrixXd x = solver.solve(-(sys.a_pc * xc));
+  progress.step("refinement", 0.75);
+  refine_bcm_solution(sys, solver, xc, x, progress);
+  BcmRestSolution out{std::move(sys.free), mesh.positions()};
+  for (std::size_t i = 0; i < out.free.size(); ++i) out.positions[out.free[i]] = x.row(static_cast<Eigen::Index>(i)).transpose();
+  return out;
+}
+
 std::vector<double> BcmSolver::handle_frames(const Mesh& mesh, const Regions& regions) {
   // Virtual frame per movable handle: centroid c and c + s e_i, s = extent (> 0).
   const int n_mov = regions.n_movable();

@@ -67,6 +67,16 @@ struct BcmStats {
   double parametrization_ms = 0;
 };
 
+// The support at the rest transforms (every handle where it stands) from one 3-column solve,
+// refined as BcmSolver's, without the basis that frames need: for a fill solved once (the
+// multiresolution's membrane, multires/operator_shape.h). Isotropic operator only.
+struct BcmRestSolution {
+  std::vector<Vertex> free;     // rows of the system (BcmSolver::free_vertices()' order)
+  VertexData<Vec3> positions;   // #V: the solution on the free vertices, the mesh elsewhere
+};
+BcmRestSolution bcm_rest_solution(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
+                                  const Progress& progress = {});
+
 // The factored system, kept on request for a model that solves it again with new right-hand
 // sides (the nonlinear model, nonlinear/nonlinear_solver.h). Rows and columns as in BcmSystem.
 struct BcmFactoredSystem {

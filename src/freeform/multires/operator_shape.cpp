@@ -2,8 +2,10 @@
 
 #include "freeform/bcm/bcm_solver.h"
 #include "freeform/common/error.h"
+#include "freeform/common/parallel.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -39,6 +41,58 @@ double min_stretch(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, c
   return std::sqrt(std::max(0.0, tr - std::sqrt(std::max(0.0, tr * tr - det))));
 }
 
+// The faces around the free vertices (those with a free corner) on the membrane fill `base`.
+// Normals are gathered per vertex, so the loops over the free vertices run in parallel.
+struct FillFaces {
+  const Mesh& mesh;
+  const Regions& regions;
+  const VertexData<Vec3>& base;
+
+  bool is_free(Vertex v) const { return regions.role(v) == Role::Free; }
+  std::array<Vertex, 3> corners(Face f) const {
+    const auto h = mesh.halfedges(f);
+    return {mesh.from_vertex(h[0]), mesh.to_vertex(h[0]), mesh.to_vertex(h[1])};
+  }
+  Vec3 face_normal(const VertexData<Vec3>& p, Face f) const {
+    const auto c = corners(f);
+    return (p[c[1]] - p[c[0]]).cross(p[c[2]] - p[c[0]]);
+  }
+  // The membrane's area-weighted normal at v.
+  Vec3 membrane_normal(Vertex v) const {
+    Vec3 n = Vec3::Zero();
+    for (Halfedge h : mesh.outgoing(v))
+      if (const Face f = mesh.face(h); f.is_valid()) {
+        const auto c = corners(f);
+        if (is_free(c[0]) || is_free(c[1]) || is_free(c[2])) n += face_normal(base, f);
+      }
+    return n;
+  }
+  // Faces whose foot points fold against the membrane or squeeze below kMinStretch; each face
+  // is checked once, by its first free corner. normal: membrane_normal on the free vertices.
+  int overhanging(const std::vector<Vertex>& free, const VertexData<Vec3>& normal, const VertexData<Vec3>& foot) const {
+    std::atomic<int> count{0};
+    parallel_for(static_cast<std::ptrdiff_t>(free.size()), 4096, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+      int bad = 0;
+      for (std::ptrdiff_t i = lo; i < hi; ++i) {
+        const Vertex v = free[static_cast<std::size_t>(i)];
+        for (Halfedge h : mesh.outgoing(v)) {
+          const Face f = mesh.face(h);
+          if (!f.is_valid()) continue;
+          const auto c = corners(f);
+          if (std::any_of(c.begin(), c.end(), [&](Vertex w) { return is_free(w) && w.idx() < v.idx(); })) continue;
+          Vec3 ref = Vec3::Zero();
+          for (Vertex w : c) ref += is_free(w) ? normal[w] : membrane_normal(w);
+          const double stretch = min_stretch(mesh.position(c[0]), mesh.position(c[1]), mesh.position(c[2]),
+                                             foot[c[0]], foot[c[1]], foot[c[2]]);
+          if (!(face_normal(foot, f).dot(ref) > 0.0) || !(stretch >= kMinStretch)) ++bad;
+        }
+      }
+      count += bad;
+    });
+    return count.load();
+  }
+};
+
 }  // namespace
 
 OperatorShape base_operator_shape(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
@@ -54,60 +108,43 @@ OperatorShape base_operator_shape(const Mesh& mesh, const Regions& regions, cons
   membrane.smoothness = {};
   Progress cancel_only;  // the caller's progress bar follows the main solver's stages
   cancel_only.cancel = progress.cancel;
-  std::optional<BcmSolver> fill;
+  std::optional<BcmRestSolution> fill;
   try {
-    fill.emplace(mesh, regions, membrane, cancel_only);
+    fill.emplace(bcm_rest_solution(mesh, regions, membrane, cancel_only));
   } catch (const SolverError& e) {
     out.fallback = std::string("the membrane fill failed (") + e.what() + ")";
     return out;
   }
-  VertexData<Vec3> base = mesh.positions();
-  fill->evaluate(std::vector<Eigen::Affine3d>(static_cast<std::size_t>(fill->n_movable()), Eigen::Affine3d::Identity()), base);
-
-  // Faces around the free vertices, with the membrane's area-weighted vertex normals.
-  const std::vector<Vertex>& free = fill->free_vertices();
-  std::vector<Face> faces;
-  FaceData<char> seen(static_cast<std::size_t>(mesh.n_faces()), 0);
-  for (Vertex v : free)
-    for (Halfedge h : mesh.outgoing(v))
-      if (const Face f = mesh.face(h); f.is_valid() && !seen[f]) {
-        seen[f] = 1;
-        faces.push_back(f);
-      }
+  const FillFaces faces{mesh, regions, fill->positions};
+  const std::vector<Vertex>& free = fill->free;
+  const auto n_free = static_cast<std::ptrdiff_t>(free.size());
   VertexData<Vec3> normal(static_cast<std::size_t>(mesh.n_vertices()), Vec3::Zero());
-  auto corners = [&](Face f) {
-    const auto h = mesh.halfedges(f);
-    return std::array<Vertex, 3>{mesh.from_vertex(h[0]), mesh.to_vertex(h[0]), mesh.to_vertex(h[1])};
-  };
-  auto face_normal = [&](const VertexData<Vec3>& p, Face f) {
-    const auto c = corners(f);
-    return Vec3((p[c[1]] - p[c[0]]).cross(p[c[2]] - p[c[0]]));
-  };
-  for (Face f : faces)
-    for (Vertex v : corners(f)) normal[v] += face_normal(base, f);
-
   out.positions = mesh.positions();
-  for (Vertex v : free) {
-    const double n = normal[v].norm();
-    if (!(n > 0.0)) {
-      out.fallback = "the membrane fill is degenerate at vertex " + std::to_string(v.idx());
-      out.positions = VertexData<Vec3>(0);
-      return out;
+  std::atomic<std::ptrdiff_t> degenerate{n_free};  // the first free row without a normal
+  parallel_for(n_free, 4096, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (std::ptrdiff_t i = lo; i < hi; ++i) {
+      const Vertex v = free[static_cast<std::size_t>(i)];
+      normal[v] = faces.membrane_normal(v);
+      const double n = normal[v].norm();
+      if (!(n > 0.0)) {
+        std::ptrdiff_t first = degenerate.load();
+        while (i < first && !degenerate.compare_exchange_weak(first, i)) {
+        }
+        continue;
+      }
+      const Vec3 u = normal[v] / n;
+      out.positions[v] -= (mesh.position(v) - faces.base[v]).dot(u) * u;
     }
-    const Vec3 u = normal[v] / n;
-    out.positions[v] -= (mesh.position(v) - base[v]).dot(u) * u;
+  });
+  if (degenerate.load() < n_free) {
+    out.fallback = "the membrane fill is degenerate at vertex " +
+                   std::to_string(free[static_cast<std::size_t>(degenerate.load())].idx());
+    out.positions = VertexData<Vec3>(0);
+    return out;
   }
   // All or nothing: mixing foot points with mesh positions where the detail overhangs gives an
   // operator whose metric jumps at the seam (measured: fandisk's creases bent by 50 degrees).
-  int bad = 0;
-  for (Face f : faces) {
-    const auto c = corners(f);
-    const Vec3 foot = face_normal(out.positions, f);
-    const Vec3 ref = normal[c[0]] + normal[c[1]] + normal[c[2]];
-    const double stretch = min_stretch(mesh.position(c[0]), mesh.position(c[1]), mesh.position(c[2]),
-                                       out.positions[c[0]], out.positions[c[1]], out.positions[c[2]]);
-    if (!(foot.dot(ref) > 0.0) || !(stretch >= kMinStretch)) ++bad;
-  }
+  const int bad = faces.overhanging(free, normal, out.positions);
   out.overhanging = bad;
   if (bad > 0) {
     out.fallback = "the detail overhangs its base at " + std::to_string(bad) +
