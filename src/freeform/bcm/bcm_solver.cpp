@@ -20,6 +20,8 @@
 #include <numeric>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace freeform {
 namespace {
@@ -90,13 +92,16 @@ VertexData<Vec3> unit_scaled(const VertexData<Vec3>& p) {
       lo = std::min(lo, x.minCoeff());
       hi = std::max(hi, x.maxCoeff());
     }
-  VertexData<Vec3> out = p;
   const double extent = hi - lo;  // max - min of all coordinates: no squares, no overflow below 1e308
-  if (!(extent > 0.0) || !std::isfinite(extent)) return out;
+  if (!(extent > 0.0) || !std::isfinite(extent)) return p;
   const int e = -std::ilogb(extent);  // ldexp, not a factor: 2^1030 for subnormal input overflows
-  for (Vec3& x : out.raw())
-    for (int i = 0; i < 3; ++i) x[i] = std::ldexp(x[i], e);
-  return out;
+  // Eigen's default constructor leaves the new array untouched: the pool takes its first touch.
+  std::vector<Vec3> out(p.size());
+  parallel_for(static_cast<std::ptrdiff_t>(p.size()), 65536, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    for (auto v = static_cast<std::size_t>(begin); v < static_cast<std::size_t>(end); ++v)
+      for (int i = 0; i < 3; ++i) out[v][i] = std::ldexp(p.raw()[v][i], e);
+  });
+  return VertexData<Vec3>(std::move(out));
 }
 
 // A failed factorization with the likely cause: degenerate triangles carry no stiffness, so the

@@ -128,7 +128,7 @@ void check_inputs(const Mesh& mesh, const VertexData<Vec3>& positions, const Reg
 // patch vertex its mixed area. Degenerate and clamped faces are counted into sys.
 struct FaceWeights {
   FaceData<int> local_face;  // face -> index into cot, -1 outside
-  std::vector<std::array<double, 3>> cot;
+  std::vector<std::array<double, 3>, UninitializedAllocator<std::array<double, 3>>> cot;
   Eigen::VectorXd area;
   double total_area = 0.0;
 };
@@ -170,14 +170,16 @@ FaceWeights face_weights(const Mesh& mesh, const VertexData<Vec3>& positions, co
   FaceWeights out;
   out.local_face = FaceData<int>(static_cast<std::size_t>(mesh.n_faces()), -1);
   const std::vector<Face> faces = faces_around(mesh, p, out.local_face);
-  std::vector<detail::CornerWeights> weights(faces.size());
-  out.cot.assign(faces.size(), {0.0, 0.0, 0.0});
+  // Filled by the parallel loop below, which then takes their pages' first touch (a serial
+  // zeroing took longer than the loop at 1M free).
+  std::vector<detail::CornerWeights, UninitializedAllocator<detail::CornerWeights>> weights(faces.size());
+  out.cot.resize(faces.size());
   parallel_for(static_cast<std::ptrdiff_t>(faces.size()), 16384, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
     for (auto fl = static_cast<std::size_t>(begin); fl < static_cast<std::size_t>(end); ++fl) {
       const detail::FaceCorners c = detail::face_corners(mesh, faces[fl]);
       weights[fl] = detail::corner_weights(positions[c.v[0]], positions[c.v[1]], positions[c.v[2]]);
       // face_corners: corner q lies opposite c.h[q], and c.h = (halfedge(f), next, next).
-      if (!weights[fl].degenerate) out.cot[fl] = weights[fl].cot;
+      out.cot[fl] = weights[fl].degenerate ? std::array<double, 3>{0.0, 0.0, 0.0} : weights[fl].cot;
     }
   });
   for (std::size_t fl = 0; fl < faces.size(); ++fl) {
@@ -190,7 +192,7 @@ FaceWeights face_weights(const Mesh& mesh, const VertexData<Vec3>& positions, co
     for (const double a : w.area) out.total_area += a;
   }
   // Each vertex's area summed over its faces in face order (the bits of one loop over the faces).
-  out.area = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(p.order.size()));
+  out.area.resize(static_cast<Eigen::Index>(p.order.size()));
   parallel_for(static_cast<std::ptrdiff_t>(p.order.size()), 8192, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
     std::vector<std::pair<int, double>> corners;
     for (auto l = begin; l < end; ++l) {
@@ -206,7 +208,9 @@ FaceWeights face_weights(const Mesh& mesh, const VertexData<Vec3>& positions, co
         corners.emplace_back(static_cast<int>(fl), weights[fl].area[q]);
       }
       std::sort(corners.begin(), corners.end());
-      for (const auto& [fl, a] : corners) out.area[l] += a;
+      double sum = 0.0;
+      for (const auto& [fl, a] : corners) sum += a;
+      out.area[l] = sum;
     }
   });
   return out;

@@ -12,6 +12,7 @@
 #include <exception>
 #include <mutex>
 #include <new>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -28,11 +29,13 @@ struct UninitializedAllocator : std::allocator<T> {
   UninitializedAllocator() = default;
   template <class U>
   explicit UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+  // Aggregates of plain data (whose member initializers would still write them) are left to
+  // the storage's implicitly created objects.
   template <class U, class... Args>
   void construct(U* p, Args&&... args) {
-    if constexpr (sizeof...(Args) == 0)
-      ::new (static_cast<void*>(p)) U;
-    else
+    if constexpr (sizeof...(Args) == 0) {
+      if constexpr (!(std::is_aggregate_v<U> && std::is_trivially_copyable_v<U>)) ::new (static_cast<void*>(p)) U;
+    } else
       ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
   }
 };
