@@ -75,12 +75,14 @@ TEST(BcmSolver, RestSolutionMatchesDirectSolveAndTheBasis) {
     const RowMatrix basis = evaluate_by_vertex(solver, rest);
     RowMatrix got(want.rows(), 3);
     const std::vector<Vertex>& free = regions.free_vertices();
-    for (std::size_t i = 0; i < free.size(); ++i) got.row(static_cast<Eigen::Index>(i)) = fill.positions[free[i]].transpose();
+    for (std::size_t i = 0; i < free.size(); ++i)
+      got.row(static_cast<Eigen::Index>(i)) = fill.positions[free[i]].transpose();
     EXPECT_LT(rel_diff(got, want), 1e-8);
     EXPECT_LT(rel_diff(got, basis), 1e-10);
     // The support really moved off the bumpy mesh (the comparison can fail), the rest did not.
     RowMatrix mesh_rows(want.rows(), 3);
-    for (std::size_t i = 0; i < free.size(); ++i) mesh_rows.row(static_cast<Eigen::Index>(i)) = scene.mesh.position(free[i]).transpose();
+    for (std::size_t i = 0; i < free.size(); ++i)
+      mesh_rows.row(static_cast<Eigen::Index>(i)) = scene.mesh.position(free[i]).transpose();
     EXPECT_GT(rel_diff(got, mesh_rows), 1e-3);
     for (Vertex v : scene.mesh.vertices())
       if (regions.role(v) != Role::Free) {

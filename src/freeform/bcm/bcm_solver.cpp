@@ -242,7 +242,8 @@ BcmRestSolution bcm_rest_solution(const Mesh& mesh, const Regions& regions, cons
   progress.step("refinement", 0.75);
   refine_bcm_solution(sys, solver, xc, x, progress);
   BcmRestSolution out{std::move(sys.free), mesh.positions()};
-  for (std::size_t i = 0; i < out.free.size(); ++i) out.positions[out.free[i]] = x.row(static_cast<Eigen::Index>(i)).transpose();
+  for (std::size_t i = 0; i < out.free.size(); ++i)
+    out.positions[out.free[i]] = x.row(static_cast<Eigen::Index>(i)).transpose();
   return out;
 }
 

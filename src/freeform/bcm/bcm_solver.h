@@ -71,8 +71,8 @@ struct BcmStats {
 // refined as BcmSolver's, without the basis that frames need: for a fill solved once (the
 // multiresolution's membrane, multires/operator_shape.h). Isotropic operator only.
 struct BcmRestSolution {
-  std::vector<Vertex> free;     // rows of the system (BcmSolver::free_vertices()' order)
-  VertexData<Vec3> positions;   // #V: the solution on the free vertices, the mesh elsewhere
+  std::vector<Vertex> free;    // rows of the system (BcmSolver::free_vertices()' order)
+  VertexData<Vec3> positions;  // #V: the solution on the free vertices, the mesh elsewhere
 };
 BcmRestSolution bcm_rest_solution(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                                   const Progress& progress = {});

@@ -82,8 +82,8 @@ struct FillFaces {
           if (std::any_of(c.begin(), c.end(), [&](Vertex w) { return is_free(w) && w.idx() < v.idx(); })) continue;
           Vec3 ref = Vec3::Zero();
           for (Vertex w : c) ref += is_free(w) ? normal[w] : membrane_normal(w);
-          const double stretch = min_stretch(mesh.position(c[0]), mesh.position(c[1]), mesh.position(c[2]),
-                                             foot[c[0]], foot[c[1]], foot[c[2]]);
+          const double stretch = min_stretch(mesh.position(c[0]), mesh.position(c[1]), mesh.position(c[2]), foot[c[0]],
+                                             foot[c[1]], foot[c[2]]);
           if (!(face_normal(foot, f).dot(ref) > 0.0) || !(stretch >= kMinStretch)) ++bad;
         }
       }
