@@ -118,7 +118,9 @@ OperatorShape base_operator_shape(const Mesh& mesh, const Regions& regions, cons
   const FillFaces faces{mesh, regions, fill->positions};
   const std::vector<Vertex>& free = fill->free;
   const auto n_free = static_cast<std::ptrdiff_t>(free.size());
-  VertexData<Vec3> normal(static_cast<std::size_t>(mesh.n_vertices()), Vec3::Zero());
+  // Read on the free vertices only, each written first by the loop below (Eigen's default
+  // constructor leaves the array untouched: no serial fill of #V entries).
+  VertexData<Vec3> normal(std::vector<Vec3>(static_cast<std::size_t>(mesh.n_vertices())));
   out.positions = mesh.positions();
   std::atomic<std::ptrdiff_t> degenerate{n_free};  // the first free row without a normal
   parallel_for(n_free, 4096, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
