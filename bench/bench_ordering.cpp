@@ -4,7 +4,8 @@
 // subdivided S times, the first N free vertices breadth-first from vertex 0). Per variant: wall
 // and CPU time on this machine, the factor's nonzeros, and each task's own time, from which the
 // ordering's wall time on `parts` cores follows: the splits level by level (the largest of each
-// level), then the largest part.
+// level), then the largest part. At k = 1 (Laplacian-like: the multiresolution's membrane fill)
+// AMD, as the solver uses there, orders the whole graph and the parts.
 // Args: mesh_name subdivisions free_in_thousands k [parts...]. JSON on stdout.
 #include "bench_meshes.h"
 
@@ -30,11 +31,13 @@ int main(int argc, char** argv) {
       argc, argv, "bench_ordering mesh_name subdivisions free_in_thousands k [parts...]");
   const Mesh& mesh = scene.mesh;
   const Regions regions(mesh, scene.support, {{scene.handle(), true}});
-  const Eigen::SparseMatrix<double> lower = bcm_lower_pattern(mesh, regions, std::stoi(argv[4]));
+  const int k = std::stoi(argv[4]);
+  const Eigen::SparseMatrix<double> lower = bcm_lower_pattern(mesh, regions, k);
+  const LeafOrdering how = k == 1 ? LeafOrdering::Amd : LeafOrdering::Metis;
   nlohmann::json out = {{"rows", lower.rows()}, {"nonzeros", lower.nonZeros()}, {"threads", thread_budget()}};
   {
     const PhaseClock clock;
-    const double fill = cholesky_fill(lower, {});  // METIS's ordering + the symbolic analysis
+    const double fill = cholesky_fill(lower, {}, how);  // the ordering + the symbolic analysis
     const PhaseTime t = clock.elapsed();
     out["whole_graph"] = {{"wall_ms", t.wall_ms}, {"cpu_ms", t.cpu_ms}, {"factor_nonzeros", fill}};
   }
@@ -42,7 +45,7 @@ int main(int argc, char** argv) {
     const int parts = std::stoi(argv[a]);
     DissectionTimes times;
     const PhaseClock clock;
-    const std::vector<int> perm = nested_dissection(lower, parts, &times);
+    const std::vector<int> perm = nested_dissection(lower, parts, &times, how);
     const PhaseTime ordering = clock.elapsed();
     const PhaseClock analysis;
     const double fill = cholesky_fill(lower, perm);

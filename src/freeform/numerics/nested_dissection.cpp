@@ -123,12 +123,14 @@ bool split_root(const Eigen::SparseMatrix<double>& lower, Node& node) {
 }
 
 bool order_leaf(const Eigen::SparseMatrix<double>& lower, Node& node, const std::vector<int>& label,
-                const std::vector<int>& local) {
+                const std::vector<int>& local, LeafOrdering how) {
   SubPattern sub;
   extract(lower, node.vertices, label, local, sub);
   std::vector<int> perm(node.vertices.size());
   Common common;
-  if (!cholmod_metis(&sub.view, nullptr, 0, 0, perm.data(), &common.c) || common.c.status < CHOLMOD_OK) return false;
+  const int ok = how == LeafOrdering::Amd ? cholmod_amd(&sub.view, nullptr, 0, perm.data(), &common.c)
+                                          : cholmod_metis(&sub.view, nullptr, 0, 0, perm.data(), &common.c);
+  if (!ok || common.c.status < CHOLMOD_OK) return false;
   node.order.resize(perm.size());
   for (std::size_t k = 0; k < perm.size(); ++k) node.order[k] = node.vertices[static_cast<std::size_t>(perm[k])];
   return true;
@@ -154,7 +156,8 @@ void append_order(const Node& node, std::vector<int>& out) {
 
 }  // namespace
 
-std::vector<int> nested_dissection(const Eigen::SparseMatrix<double>& lower, int parts, DissectionTimes* times) {
+std::vector<int> nested_dissection(const Eigen::SparseMatrix<double>& lower, int parts, DissectionTimes* times,
+                                   LeafOrdering how) {
   const auto n = static_cast<std::size_t>(lower.rows());
   if (n == 0 || lower.rows() != lower.cols() || !lower.isCompressed()) return {};
   Node root;
@@ -193,7 +196,7 @@ std::vector<int> nested_dissection(const Eigen::SparseMatrix<double>& lower, int
   std::vector<double> ms(leaves.size());
   run_tasks(static_cast<int>(leaves.size()), [&](int t) {
     const auto i = static_cast<std::size_t>(t);
-    ms[i] = cpu_ms_of([&] { ok[i] = order_leaf(lower, *leaves[i], label, local); });
+    ms[i] = cpu_ms_of([&] { ok[i] = order_leaf(lower, *leaves[i], label, local, how); });
   });
   if (times) times->leaf_ms = std::move(ms);
   if (std::find(ok.begin(), ok.end(), 0) != ok.end()) return {};
@@ -203,7 +206,7 @@ std::vector<int> nested_dissection(const Eigen::SparseMatrix<double>& lower, int
   return out;
 }
 
-double cholesky_fill(const Eigen::SparseMatrix<double>& lower, std::vector<int> perm) {
+double cholesky_fill(const Eigen::SparseMatrix<double>& lower, std::vector<int> perm, LeafOrdering whole) {
   if (lower.rows() == 0) return 0;
   SubPattern sub;
   std::vector<int> all(static_cast<std::size_t>(lower.cols()));
@@ -212,7 +215,7 @@ double cholesky_fill(const Eigen::SparseMatrix<double>& lower, std::vector<int> 
   extract(lower, all, label, all, sub);
   Common common;
   common.c.nmethods = 1;
-  common.c.method[0].ordering = CHOLMOD_METIS;
+  common.c.method[0].ordering = whole == LeafOrdering::Amd ? CHOLMOD_AMD : CHOLMOD_METIS;
   common.c.supernodal = CHOLMOD_SUPERNODAL;
   cholmod_factor* f =
       perm.empty() ? cholmod_analyze(&sub.view, &common.c) : analyze_supernodal_given(sub.view, perm.data(), &common.c);
@@ -221,8 +224,10 @@ double cholesky_fill(const Eigen::SparseMatrix<double>& lower, std::vector<int> 
   return lnz;
 }
 #else
-std::vector<int> nested_dissection(const Eigen::SparseMatrix<double>&, int, DissectionTimes*) { return {}; }
-double cholesky_fill(const Eigen::SparseMatrix<double>&, std::vector<int>) { return 0; }
+std::vector<int> nested_dissection(const Eigen::SparseMatrix<double>&, int, DissectionTimes*, LeafOrdering) {
+  return {};
+}
+double cholesky_fill(const Eigen::SparseMatrix<double>&, std::vector<int>, LeafOrdering) { return 0; }
 #endif
 
 }  // namespace freeform

@@ -3,7 +3,8 @@
 // 1M-free k = 3 precompute. Here the top levels of the dissection are vertex separators (the
 // first, from 100k rows, from METIS on a coarse graph, numerics/coarse_separator.h; the others
 // METIS's own bisection), each level's parts split concurrently, and the parts below are ordered
-// by METIS concurrently; separators go last, as METIS places them.
+// concurrently, by METIS or, for Laplacian-like stencils, by AMD (what CHOLMOD runs for those,
+// one thread as well); separators go last, as METIS places them.
 #pragma once
 
 #include <Eigen/SparseCore>
@@ -22,13 +23,16 @@ struct DissectionTimes {
   std::vector<std::vector<double>> split_ms;
   std::vector<double> leaf_ms;
 };
+// How the parts below the splits are ordered, and a whole graph in cholesky_fill.
+enum class LeafOrdering { Metis, Amd };
 std::vector<int> nested_dissection(const Eigen::SparseMatrix<double>& lower, int parts,
-                                   DissectionTimes* times = nullptr);
+                                   DissectionTimes* times = nullptr, LeafOrdering leaves = LeafOrdering::Metis);
 
 // The nonzeros of the Cholesky factor of a matrix with pattern `lower` when its rows are
 // eliminated in `perm`'s order (CHOLMOD's symbolic analysis, which postorders it); an empty
-// perm: CHOLMOD's METIS ordering of the whole graph. 0 without SuiteSparse.
-double cholesky_fill(const Eigen::SparseMatrix<double>& lower, std::vector<int> perm);
+// perm: CHOLMOD's ordering of the whole graph by `whole`. 0 without SuiteSparse.
+double cholesky_fill(const Eigen::SparseMatrix<double>& lower, std::vector<int> perm,
+                     LeafOrdering whole = LeafOrdering::Metis);
 
 // The leaves nested_dissection uses for a thread budget: the smallest power of two at least
 // `threads`, at most 64.

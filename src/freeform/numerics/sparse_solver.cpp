@@ -201,6 +201,8 @@ const char* kind_name(SolverKind k) {
 constexpr Eigen::Index kLaplacianLikeNonzeros = 10;
 // Rows from which a wider stencil is ordered by METIS without CHOLMOD's trial AMD ordering.
 constexpr Eigen::Index kMetisOnlyRows = 250000;
+// Rows from which a Laplacian-like stencil's AMD ordering is split into parts on several cores.
+constexpr Eigen::Index kParallelAmdRows = 100000;
 
 bool is_cholesky(SolverKind k) { return k == SolverKind::CholmodSupernodal || k == SolverKind::EigenLDLT; }
 
@@ -258,12 +260,18 @@ CholmodPtr analyzed_cholmod(const SpMat& lower, int* status = nullptr) {
   // parts ordered concurrently (nested_dissection.h). One core is left to the caller, which
   // assembles the system meanwhile (bcm/bcm_analysis.h): on 2 cores both are busy already, and
   // two parts there measured no faster than the whole graph (docs/benchmarks.md).
+  // AMD on a Laplacian-like stencil is one thread as well, serial on the caller's chain: on
+  // large graphs split into 4 parts or more, ordered by AMD concurrently
+  // (2 parts can fill more than AMD: test_nested_dissection.cpp).
   const int parts = dissection_parts(thread_budget() - 1);
+  const bool amd = s->cholmod().nmethods == 1 && s->cholmod().method[0].ordering == CHOLMOD_AMD;
   std::vector<int> perm;
-  if (s->cholmod().method[0].ordering == CHOLMOD_METIS && parts > 1) perm = nested_dissection(lower, parts);
+  if (parts > 1 && s->cholmod().method[0].ordering == CHOLMOD_METIS) perm = nested_dissection(lower, parts);
+  if (parts >= 4 && amd && lower.rows() >= kParallelAmdRows)
+    perm = nested_dissection(lower, parts, nullptr, LeafOrdering::Amd);
   if (!perm.empty()) {
     s->analyze_given(lower, perm);
-    s->ordering = "metis, " + std::to_string(parts) + " parts in parallel";
+    s->ordering = std::string(amd ? "amd" : "metis") + ", " + std::to_string(parts) + " parts in parallel";
   }
   if (perm.empty() || !s->has_factor()) {
     s->analyzePattern(lower);
