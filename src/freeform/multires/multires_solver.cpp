@@ -411,7 +411,7 @@ void MultiresSolver::count_codes() {
 // Rest orientation of the detail triangles against their base triangles.
 void MultiresSolver::set_detail_rest_signs(const Mesh& mesh) {
   detail_rest_sign_.resize(detail_faces_.size());
-  for (std::size_t k = 0; k < detail_faces_.size(); ++k) {
+  const auto sign = [&](std::size_t k) {
     const Vec3 p0 = mesh.position(Vertex(detail_face_global_[3 * k]));
     const Vec3 p1 = mesh.position(Vertex(detail_face_global_[3 * k + 1]));
     const Vec3 p2 = mesh.position(Vertex(detail_face_global_[3 * k + 2]));
@@ -419,8 +419,13 @@ void MultiresSolver::set_detail_rest_signs(const Mesh& mesh) {
     // nearly perpendicular to its base triangle (walls of sharp features) has no meaningful side.
     const Vec3 dn = (p1 - p0).cross(p2 - p0), bn = base_face_normal(detail_faces_[k]);
     const double c = dn.dot(bn), scale = dn.norm() * bn.norm();
-    detail_rest_sign_[k] = c > kFacingCosine * scale ? 1 : (c < -kFacingCosine * scale ? -1 : 0);
-  }
+    return c > kFacingCosine * scale ? 1 : (c < -kFacingCosine * scale ? -1 : 0);
+  };
+  parallel_for(static_cast<std::ptrdiff_t>(detail_faces_.size()), kParallelRows,
+               [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+                 for (auto k = static_cast<std::size_t>(lo); k < static_cast<std::size_t>(hi); ++k)
+                   detail_rest_sign_[k] = sign(k);
+               });
 }
 
 std::vector<bool> MultiresSolver::fallback_mask() const {
