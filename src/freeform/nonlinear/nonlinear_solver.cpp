@@ -51,9 +51,12 @@ constexpr int kLocalMembraneMaxFree = 10000;
 // How the membrane's targets follow the edges' stretch (face_fans.h). With its own 1-ring
 // rotations: compressed edges pushed out, stretched ones pulled back halfway (chosen on the
 // gallery, docs/nonlinear.md, "What the gallery found", 21). Up to kStiffCompressionFull free
-// vertices, where the membrane weighs most, pushed out by their whole compression and pulled
-// back by a fifth of their stretch: limbs keep their cross-sections (item 35; on larger supports
-// this drifted for hundreds of iterations), blended into the former up to kStiffCompressionNone.
+// vertices pushed out by their whole compression: limbs keep their cross-sections and crooks
+// fold less (items 35 and 40; it converges on supports this large since sliding iterations are
+// moved on, drift.h; not beyond: the subdivided armadillo's arm twist folded), blended into the
+// former up to kStiffCompressionNone. Stretched edges are pulled back by only a fifth of their
+// stretch up to kReleasedStretchFull, blended into half by kReleasedStretchNone: released on
+// larger supports, the survey's twisted bar (1,640 free) buckled in its middle (item 40).
 // Fed back through the right-hand side alone, that push flips a mode's sign every iteration, so
 // there the factored operator holds kLaggedMembrane more of the membrane's weight and the
 // right-hand side gives it back at the current iterate: the fixed points stay, and for a
@@ -62,7 +65,8 @@ constexpr int kLocalMembraneMaxFree = 10000;
 // length, made the editor benchmark's bunny twist settle in 40-300 iterations instead of 25-28;
 // without the push the subdivided armadillo's knee crumpled at C0 (item 28).
 constexpr OneSided kLocalMembrane{}, kStiffCompression{1.0, 0.8, 0.0}, kFieldMembrane{0.5, 0.0, 0.1};
-constexpr double kStiffCompressionFull = 1000.0, kStiffCompressionNone = 1500.0;
+constexpr double kStiffCompressionFull = 5000.0, kStiffCompressionNone = 8000.0;
+constexpr double kReleasedStretchFull = 1000.0, kReleasedStretchNone = 1500.0;
 constexpr double kLaggedMembrane = 1.0;
 // Above this many free vertices the volume term's response to the gradient at the iterate is
 // solved together with the step (one back-substitution of 6 columns instead of two of 3; the
@@ -483,11 +487,12 @@ void NonlinearSolver::add_membrane(double weight) {
   }
   const double sign = (da > 0.0) == (dl > 0.0) ? 1.0 : -1.0;
   const double mu = sign * weight * std::abs(da) / std::max(std::abs(dl), 1e-300);
-  const double stiff =
-      std::clamp((kStiffCompressionNone - p) / (kStiffCompressionNone - kStiffCompressionFull), 0.0, 1.0);
-  const auto blend = [stiff](double from, double to) { return from + stiff * (to - from); };
-  d.one_sided = {blend(kLocalMembrane.compression_gain, kStiffCompression.compression_gain),
-                 blend(kLocalMembrane.stretch_share, kStiffCompression.stretch_share), 0.0};
+  const auto share = [p](double from, double to) { return std::clamp((to - p) / (to - from), 0.0, 1.0); };
+  const double stiff = share(kStiffCompressionFull, kStiffCompressionNone);
+  const double released = share(kReleasedStretchFull, kReleasedStretchNone);
+  const auto blend = [](double t, double from, double to) { return from + t * (to - from); };
+  d.one_sided = {blend(stiff, kLocalMembrane.compression_gain, kStiffCompression.compression_gain),
+                 blend(released, kLocalMembrane.stretch_share, kStiffCompression.stretch_share), 0.0};
   d.lagged = stiff * kLaggedMembrane;
   full += (1.0 + d.lagged) * mu * membrane;
   Eigen::SparseMatrix<double> app = full.leftCols(p), apc = full.rightCols(n - p);
