@@ -122,25 +122,19 @@ OperatorShape base_operator_shape(const Mesh& mesh, const Regions& regions, cons
   // constructor leaves the array untouched: no serial fill of #V entries).
   VertexData<Vec3> normal(std::vector<Vec3>(static_cast<std::size_t>(mesh.n_vertices())));
   out.positions = mesh.positions();
-  std::atomic<std::ptrdiff_t> degenerate{n_free};  // the first free row without a normal
   parallel_for(n_free, 4096, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
     for (std::ptrdiff_t i = lo; i < hi; ++i) {
       const Vertex v = free[static_cast<std::size_t>(i)];
       normal[v] = faces.membrane_normal(v);
       const double n = normal[v].norm();
-      if (!(n > 0.0)) {
-        std::ptrdiff_t first = degenerate.load();
-        while (i < first && !degenerate.compare_exchange_weak(first, i)) {
-        }
-        continue;
-      }
+      if (!(n > 0.0)) continue;  // refused below
       const Vec3 u = normal[v] / n;
       out.positions[v] -= (mesh.position(v) - faces.base[v]).dot(u) * u;
     }
   });
-  if (degenerate.load() < n_free) {
-    out.fallback = "the membrane fill is degenerate at vertex " +
-                   std::to_string(free[static_cast<std::size_t>(degenerate.load())].idx());
+  const auto degenerate = std::find_if(free.begin(), free.end(), [&](Vertex v) { return !(normal[v].norm() > 0.0); });
+  if (degenerate != free.end()) {
+    out.fallback = "the membrane fill is degenerate at vertex " + std::to_string(degenerate->idx());
     out.positions = VertexData<Vec3>(0);
     return out;
   }
