@@ -23,6 +23,13 @@ namespace {
 // that stands on its base is squeezed far less (the survey's bumpy plane: 0.52).
 constexpr double kMinStretch = 0.25;
 
+// A free vertex on the mesh's open boundary is lifted when the membrane fill passes it at more
+// than this fraction of its mean edge length along the fill's normal. Measured
+// (docs/nonlinear.md, "What the gallery found", 43): 0 on the survey's bumpy plane, whose sides
+// are flat; 0.07-7 where the gallery's supports reach the curved open boundaries of 12
+// libcgal-demo meshes, on which decomposing the detail folded more than the model without it.
+constexpr double kLiftedBoundary = 0.05;
+
 // Smallest singular value of the affine map from triangle (a, b, c) to (p, q, r): how far the
 // projection squeezes it in its most compressed direction.
 double min_stretch(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, const Vec3& q, const Vec3& r) {
@@ -66,6 +73,17 @@ struct FillFaces {
         if (is_free(c[0]) || is_free(c[1]) || is_free(c[2])) n += face_normal(base, f);
       }
     return n;
+  }
+  // Whether the fill passes boundary vertex v farther than kLiftedBoundary of its mean edge
+  // length along the fill's normal n.
+  bool lifted(Vertex v, const Vec3& n) const {
+    double length = 0.0;
+    int edges = 0;
+    for (Halfedge h : mesh.outgoing(v)) {
+      length += (mesh.position(mesh.to_vertex(h)) - mesh.position(v)).norm();
+      ++edges;
+    }
+    return std::abs((mesh.position(v) - base[v]).dot(n.normalized())) > kLiftedBoundary * length / std::max(edges, 1);
   }
   // Faces whose foot points fold against the membrane or squeeze below kMinStretch; each face
   // is checked once, by its first free corner. normal: membrane_normal on the free vertices.
@@ -138,6 +156,8 @@ OperatorShape base_operator_shape(const Mesh& mesh, const Regions& regions, cons
     out.positions = VertexData<Vec3>(0);
     return out;
   }
+  for (Vertex v : free)  // one read per vertex: milliseconds at 1M
+    if (mesh.is_boundary(v)) out.lifted_boundary += faces.lifted(v, normal[v]);
   // All or nothing: mixing foot points with mesh positions where the detail overhangs gives an
   // operator whose metric jumps at the seam (measured: fandisk's creases bent by 50 degrees).
   const int bad = faces.overhanging(free, normal, out.positions);

@@ -20,9 +20,14 @@ struct OperatorShape {
   VertexData<Vec3> positions;  // #V: foot points on the free vertices, the mesh elsewhere; empty if not used
   std::string fallback;        // why the detailed mesh's own shape is used instead (empty if used)
   int overhanging = 0;         // triangles whose foot points fold or are squeezed (the detail overhangs its base)
+  int lifted_boundary = 0;     // free vertices on the mesh's open boundary the fill leaves along its normal
   double ms = 0;               // wall time (the membrane fill's factorization dominates)
 };
 
+// Also counts the free vertices on the mesh's open boundary that the fill leaves along its
+// normal (lifted_boundary): the fill's boundary is free there and curls away from a curved
+// surface, so the decomposition would invent detail at the boundary (a flat plane's sides stay
+// on it).
 // Empty positions with a reason when the foot points fold a triangle or squeeze it below a
 // quarter in some direction (detail that overhangs its base, as on the armadillo's ear or
 // fandisk's walls, or as tall as its base is wide, as a long tube over its pinched membrane) or with
