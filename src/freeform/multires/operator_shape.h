@@ -24,14 +24,14 @@ struct OperatorShape {
   double ms = 0;               // wall time (the membrane fill's factorization dominates)
 };
 
-// Also counts the free vertices on the mesh's open boundary that the fill leaves along its
-// normal (lifted_boundary): the fill's boundary is free there and curls away from a curved
-// surface, so the decomposition would invent detail at the boundary (a flat plane's sides stay
-// on it).
 // Empty positions with a reason when the foot points fold a triangle or squeeze it below a
 // quarter in some direction (detail that overhangs its base, as on the armadillo's ear or
 // fandisk's walls, or as tall as its base is wide, as a long tube over its pinched membrane) or with
 // settings.anisotropic (that operator has its own domain).
+// Also counts the free vertices on the mesh's open boundary that the fill leaves along its
+// normal (lifted_boundary): the fill's boundary is free there and curls away from a curved
+// surface, so the decomposition would invent detail at the boundary (a flat plane's sides stay
+// on it).
 OperatorShape base_operator_shape(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                                   const Progress& progress = {});
 
