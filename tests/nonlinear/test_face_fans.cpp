@@ -6,11 +6,8 @@
 
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
-#include <Eigen/Geometry>
 
-#include <array>
 #include <cmath>
-#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -88,34 +85,6 @@ TEST(FaceFans, OneSidedTargetPushesCompressedEdgesOutAndKeepsPartOfAStretch) {
   }
   EXPECT_EQ(FaceFans::target_scale(100.0), FaceFans::target_scale(1000.0));
   EXPECT_EQ(FaceFans::target_scale(-3.0), FaceFans::target_scale(0.0));  // turned against its target
-}
-
-// The compression push's share by the face's shape (FaceFans::push_weight): the closed form of an
-// isosceles triangle with apex angle t and legs 1, quality 4 sqrt(3) (sin t / 2) / (2 + 4
-// sin^2(t / 2)), over kFullPushQuality and at most 1; invariant under scale, motion and the
-// corners' order; 0 for a degenerate face.
-TEST(FaceFans, PushWeightFollowsTheFacesShape) {
-  const auto isosceles = [](double t, double scale, const Eigen::Matrix3d& rot) {
-    const Eigen::Vector3d a(0, 0, 0), b(1, 0, 0), c(std::cos(t), std::sin(t), 0);
-    const Eigen::Vector3d shift(0.3, -2.0, 5.0);
-    return std::array<Eigen::Vector3d, 3>{scale * rot * a + shift, scale * rot * b + shift, scale * rot * c + shift};
-  };
-  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
-  for (double degrees : {60.0, 90.0, 30.0, 10.0, 5.0, 3.0, 1.0, 0.05}) {
-    const double t = degrees * std::numbers::pi / 180.0, half = std::sin(t / 2.0);
-    const double quality = 4.0 * std::sqrt(3.0) * (std::sin(t) / 2.0) / (2.0 + 4.0 * half * half);
-    const double expected = std::min(1.0, quality / FaceFans::kFullPushQuality);
-    for (double scale : {1.0, 1e-4, 250.0}) {
-      const auto [a, b, c] = isosceles(t, scale, turn);
-      EXPECT_NEAR(FaceFans::push_weight(a, b, c), expected, 1e-9) << degrees << " degrees, scale " << scale;
-      EXPECT_NEAR(FaceFans::push_weight(c, a, b), expected, 1e-9) << degrees;
-      EXPECT_NEAR(FaceFans::push_weight(b, a, c), expected, 1e-9) << degrees;
-    }
-  }
-  EXPECT_EQ(FaceFans::push_weight({0, 0, 0}, {1, 0, 0}, {60, 0, 0}), 0.0);  // collinear
-  EXPECT_EQ(FaceFans::push_weight({1, 1, 1}, {1, 1, 1}, {1, 1, 1}), 0.0);   // a point
-  // Faces of ordinary meshes take the whole push: a right isosceles triangle's quality is 0.87.
-  EXPECT_EQ(FaceFans::push_weight({0, 0, 0}, {1, 0, 0}, {0, 1, 0}), 1.0);
 }
 
 // The large supports' target (full resistance to stretch, a smooth onset of the push): exactly 1

@@ -42,7 +42,6 @@ FaceFans::FaceFans(const Mesh& mesh, const VertexData<int>& local, std::span<con
       if (face < 0) {
         face = static_cast<int>(corners_.size());
         corners_.push_back({i, j, n});
-        push_.push_back(push_weight(row(rest, i), row(rest, j), row(rest, n)));
       }
       const std::array<int, 3>& c = corners_[static_cast<std::size_t>(face)];
       const int corner = c[0] == i ? 0 : c[1] == i ? 1 : 2;
@@ -96,16 +95,6 @@ Eigen::Matrix3d FaceFans::covariance(int i, const double* x) const {
   return s;
 }
 
-double FaceFans::push_weight(const Vec& a, const Vec& b, const Vec& c) {
-  const Vec ab = b - a, ac = c - a, bc = c - b;
-  const double squares = ab.squaredNorm() + ac.squaredNorm() + bc.squaredNorm();
-  if (!(squares > 0.0)) return 0.0;
-  // 4 sqrt(3) area / squares: 1 for an equilateral triangle, 0.87 for a right isosceles one,
-  // about 1.73 times the apex angle (radians) of a thin isosceles needle.
-  const double quality = 2.0 * std::sqrt(3.0) * ab.cross(ac).norm() / squares;
-  return std::min(1.0, quality / kFullPushQuality);
-}
-
 double FaceFans::target_scale(double stretch, const OneSided& one_sided) {
   // An edge turned against its target (a cold start's first step under a large rotation)
   // counts as fully compressed, not more.
@@ -127,15 +116,13 @@ Eigen::Matrix3d FaceFans::mean(int face, const std::vector<Eigen::Matrix3d>& rot
 FaceFans::EdgeTerms FaceFans::edge_terms(int face, const Eigen::Matrix3d& mean, const double* rest, const double* x,
                                          const OneSided& one_sided) const {
   const std::array<int, 3>& c = corners_[static_cast<std::size_t>(face)];
-  OneSided own = one_sided;
-  if (own.shape_weighted) own.compression_gain *= push_[static_cast<std::size_t>(face)];
   // The target t = (mean + I) r, scaled by the edge's stretch along it, minus the rest edge r.
   const auto term = [&](int a, int b) -> Vec {
     const Vec r = row(rest, b) - row(rest, a);
     const Vec t = mean * r + r;
     const double tt = t.squaredNorm();
     const double stretch = tt > 0.0 ? (row(x, b) - row(x, a)).dot(t) / tt : 1.0;
-    return target_scale(stretch, own) * t - r;
+    return target_scale(stretch, one_sided) * t - r;
   };
   return {term(c[0], c[1]), term(c[0], c[2]), term(c[1], c[2])};
 }

@@ -28,7 +28,6 @@ struct OneSided {
   double compression_gain = 0.5;
   double stretch_share = 0.5;
   double onset = 0.0;
-  bool shape_weighted = false;  // each face's gain times its push_weight()
 };
 
 class FaceFans {
@@ -56,10 +55,10 @@ class FaceFans {
 
   // The same with one-sided targets at the current positions x: each edge's target M r also
   // scaled by target_scale() of its stretch along it (exactly 1 at rest and under rigid motions,
-  // so those stay exact; shape_weighted: the gain times the face's push_weight()). An edge's term
-  // (scaled target minus rest edge) is shared by the rows at its two ends with opposite signs
-  // (exactly), so it is computed once per face: edge_terms() gives face f's terms for its edges
-  // (c0 c1), (c0 c2), (c1 c2) in corner order, and rotated() sums each row's from them.
+  // so those stay exact). An edge's term (scaled target minus rest edge) is shared by the rows at
+  // its two ends with opposite signs (exactly), so it is computed once per face: edge_terms()
+  // gives face f's terms for its edges (c0 c1), (c0 c2), (c1 c2) in corner order, and rotated()
+  // sums each row's from them.
   using EdgeTerms = std::array<Eigen::Vector3d, 3>;
   EdgeTerms edge_terms(int face, const Eigen::Matrix3d& mean, const double* rest, const double* x,
                        const OneSided& one_sided) const;
@@ -75,16 +74,6 @@ class FaceFans {
   // edge is pushed out beyond its rest length, a stretched one is pulled back only halfway;
   // both bounded (docs/nonlinear.md, "What the gallery found", 21 and 28).
   static double target_scale(double stretch, const OneSided& one_sided = {});
-
-  // How much of the compression push a face of rest corners a, b, c takes: its shape quality
-  // (4 sqrt(3) area over the sum of its squared edges, 1 when equilateral) over
-  // kFullPushQuality, at most 1. Pushing a needle's edges out flipped them from compressed to
-  // stretched and back every iteration: the engine of assimp's test models cycled with period 2
-  // until the cap. The bound was chosen there (docs/nonlinear.md, "What the gallery found", 46):
-  // 0.1 left one of its three cycling runs at the cap, 0.2 and 0.3 converged all three, and 0.2
-  // changed the gallery least.
-  static constexpr double kFullPushQuality = 0.2;
-  static double push_weight(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
  private:
   struct Face {
@@ -103,7 +92,6 @@ class FaceFans {
   std::vector<int> offset_, spoke_offset_;
   std::vector<Face> faces_;
   std::vector<std::array<int, 3>> corners_;  // per distinct face: its local rows
-  std::vector<double> push_;                 // per distinct face: push_weight() at rest
   std::vector<Spoke> spokes_;
 };
 

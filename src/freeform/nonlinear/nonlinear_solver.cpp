@@ -63,10 +63,7 @@ constexpr int kLocalMembraneMaxFree = 10000;
 // compressed edge the feedback cancels. With the smoothed field (larger supports still) a stretch
 // is resisted fully and the push's onset is smooth: releasing stretch, or a kink at the rest
 // length, made the editor benchmark's bunny twist settle in 40-300 iterations instead of 25-28;
-// without the push the subdivided armadillo's knee crumpled at C0 (item 28). The membrane with
-// its own rotations pushes each face by its shape (FaceFans::push_weight: needles cycled, item
-// 46); the smoothed field's, with its smooth onset, pushes every face alike as before (no cycle
-// was found there).
+// without the push the subdivided armadillo's knee crumpled at C0 (item 28).
 constexpr OneSided kLocalMembrane{}, kStiffCompression{1.0, 0.8, 0.0}, kFieldMembrane{0.5, 0.0, 0.1};
 constexpr double kStiffCompressionFull = 5000.0, kStiffCompressionNone = 8000.0;
 constexpr double kReleasedStretchFull = 1000.0, kReleasedStretchNone = 1500.0;
@@ -495,7 +492,7 @@ void NonlinearSolver::add_membrane(double weight) {
   const double released = share(kReleasedStretchFull, kReleasedStretchNone);
   const auto blend = [](double t, double from, double to) { return from + t * (to - from); };
   d.one_sided = {blend(stiff, kLocalMembrane.compression_gain, kStiffCompression.compression_gain),
-                 blend(released, kLocalMembrane.stretch_share, kStiffCompression.stretch_share), 0.0, true};
+                 blend(released, kLocalMembrane.stretch_share, kStiffCompression.stretch_share), 0.0};
   d.lagged = stiff * kLaggedMembrane;
   full += (1.0 + d.lagged) * mu * membrane;
   Eigen::SparseMatrix<double> app = full.leftCols(p), apc = full.rightCols(n - p);
