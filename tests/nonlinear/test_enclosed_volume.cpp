@@ -1,5 +1,6 @@
 // EnclosedVolumes against closed forms: the volume of a sphere and a box-like cylinder, the
-// gradient against finite differences, the multiplier against the target it is asked for.
+// gradient against finite differences, the multiplier against the target it is asked for, the
+// volumes of two support parts against the whole mesh's.
 #include "freeform/mesh/generators.h"
 #include "freeform/nonlinear/enclosed_volume.h"
 
@@ -104,6 +105,104 @@ TEST(EnclosedVolumes, UnscaledTargetIsTheRestVolumeExactly) {
       const Eigen::MatrixXd u = s.x.topRows(s.n_free);
       EXPECT_EQ(v.multiplier(0, s.x, u), 0.0) << "subdivisions " << subdivisions << ", sphere " << k;
     }
+}
+
+// A sphere with two support parts: the caps above z = 0.3 r and below -0.3 r, each with a
+// handle (z beyond 0.85 r), the band between them fixed. Rows: the free vertices, then the
+// handles'; part_of_row: 0 up, 1 down.
+struct TwoCaps {
+  Mesh mesh;
+  Regions regions;
+  VertexData<int> local;
+  int n_free = 0;
+  std::vector<int> part_of_row;
+  Rows x;
+};
+
+TwoCaps two_caps() {
+  Mesh mesh = Mesh::from_soup(make_icosphere(3, 1.0));
+  std::vector<Vertex> support;
+  HandleRegion up, down;
+  for (Vertex v : mesh.vertices()) {
+    const double z = mesh.position(v).z();
+    if (std::abs(z) > 0.3) support.push_back(v);
+    if (z > 0.85) up.vertices.push_back(v);
+    if (z < -0.85) down.vertices.push_back(v);
+  }
+  Regions regions(mesh, support, {up, down});
+  VertexData<int> local(static_cast<std::size_t>(mesh.n_vertices()), -1);
+  std::vector<int> part;
+  for (Vertex v : mesh.vertices())
+    if (regions.role(v) == Role::Free) {
+      local[v] = static_cast<int>(part.size());
+      part.push_back(mesh.position(v).z() > 0 ? 0 : 1);
+    }
+  const int n_free = static_cast<int>(part.size());
+  for (const HandleRegion* h : {&up, &down})
+    for (Vertex v : h->vertices) {
+      local[v] = static_cast<int>(part.size());
+      part.push_back(h == &up ? 0 : 1);
+    }
+  Rows x(static_cast<Eigen::Index>(part.size()), 3);
+  for (Vertex v : mesh.vertices())
+    if (local[v] >= 0) x.row(local[v]) = mesh.position(v).transpose();
+  return {std::move(mesh), std::move(regions), std::move(local), n_free, std::move(part), std::move(x)};
+}
+
+// Each support part keeps its own volume, in which the other part stays at rest: the whole
+// mesh's change of volume (a plain sum over its faces) is the sum of the parts' changes, each
+// part's volume sees only its own rows and handle, and its gradient is 0 on the other's rows.
+TEST(EnclosedVolumes, EachSupportPartKeepsItsOwnVolume) {
+  const TwoCaps s = two_caps();
+  EnclosedVolumes v(s.mesh, s.mesh.positions(), s.local, s.n_free, s.regions, s.part_of_row);
+  ASSERT_EQ(v.count(), 2);
+  const double rest0 = v.volume(0, s.x) * std::pow(v.scale(0), 3), rest1 = v.volume(1, s.x) * std::pow(v.scale(1), 3);
+  EXPECT_NEAR(rest0, rest1, 1e-14);
+  const Eigen::Affine3d t[] = {Eigen::Affine3d(Eigen::AngleAxisd(0.9, Vec3::UnitX())),
+                               Eigen::Affine3d(Eigen::Translation3d(0.1, 0.0, -0.3))};
+  Rows x = s.x;
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    const auto part = static_cast<std::size_t>(s.part_of_row[static_cast<std::size_t>(i)]);
+    const Vec3 p = x.row(i).transpose();
+    x.row(i) = (i < s.n_free ? Vec3(p + 0.1 * p.z() * p) : Vec3(t[part] * p)).transpose();
+  }
+  const std::vector<double> scale(static_cast<std::size_t>(x.rows()), 1.0);
+  const double handle_scale[] = {1.0, 1.0};
+  v.start(t, scale, handle_scale, x);
+  double whole = 0.0;
+  for (Face f : s.mesh.faces()) {
+    Vec3 p[3];
+    const std::array<Vertex, 3> c = s.mesh.vertices(f);
+    for (std::size_t k = 0; k < 3; ++k) {
+      const int l = s.local[c[k]];
+      p[k] = l >= 0 ? Vec3(x.row(l).transpose()) : s.mesh.position(c[k]);
+    }
+    whole += p[0].dot(p[1].cross(p[2])) / 6.0;
+  }
+  const double now0 = v.volume(0, x) * std::pow(v.scale(0), 3), now1 = v.volume(1, x) * std::pow(v.scale(1), 3);
+  EXPECT_GT(std::abs(now0 - rest0), 0.05);
+  EXPECT_GT(std::abs(now1 - rest1), 0.05);
+  EXPECT_NEAR(whole - rest0, (now0 - rest0) + (now1 - rest1), 1e-12);
+  Rows y = x;  // part 1 back at its rest: part 0's volume does not see it
+  for (Eigen::Index i = 0; i < y.rows(); ++i)
+    if (s.part_of_row[static_cast<std::size_t>(i)] == 1 && i < s.n_free) y.row(i) = s.x.row(i);
+  EXPECT_EQ(v.volume(0, y), v.volume(0, x));
+  Eigen::MatrixXd g(s.n_free, 3);
+  v.gradient(0, x, g);
+  for (int i = 0; i < s.n_free; ++i)
+    if (s.part_of_row[static_cast<std::size_t>(i)] == 1) {
+      EXPECT_EQ(g.row(i).norm(), 0.0) << "row " << i;
+    }
+  // Without parts, or with parts that share a handle (its motion belongs to both): one volume,
+  // the whole mesh's.
+  std::vector<int> shared = s.part_of_row;
+  shared.back() = 0;  // a row of the lower handle in the upper part
+  for (const std::vector<int>& parts : {std::vector<int>(), shared}) {
+    EnclosedVolumes one(s.mesh, s.mesh.positions(), s.local, s.n_free, s.regions, parts);
+    one.start(t, scale, handle_scale, x);
+    ASSERT_EQ(one.count(), 1);
+    EXPECT_NEAR(one.volume(0, x) * std::pow(one.scale(0), 3), whole, 1e-12);
+  }
 }
 
 TEST(EnclosedVolumes, GradientMatchesFiniteDifferences) {

@@ -184,6 +184,56 @@ TEST(Nonlinear, LargeSupportsKeepTheRestAndTheVolume) {
   }
 }
 
+// Two unconnected parts of one support on one closed capsule: the top (z > 4.4) bent 90 degrees
+// and the bottom (z < 2.6, about twice as many free vertices) twisted 120 degrees, the band
+// between them fixed. Each part takes the settings of its own size and keeps its own volume
+// (part_settings.h, enclosed_volume.h), so the joint edit gives each part what editing it alone
+// gives: neither the other part's size nor its loss of volume reaches it. Without
+// multiresolution: whether the detail is decomposed is decided for the whole support (the
+// bottom's detail overhangs its base, the top's alone does not; docs/nonlinear.md, 47).
+TEST(Nonlinear, PartsOfOneSupportAreSolvedAsIfAlone) {
+  const Mesh mesh = Mesh::from_soup(make_capsule(0.5, 6.0, 24, 60));
+  const auto in_top = [&](Vertex v) { return mesh.position(v).z() > 4.4; };
+  const auto in_bottom = [&](Vertex v) { return mesh.position(v).z() < 2.6; };
+  const Eigen::Affine3d bend = Eigen::Translation3d(0, 0, 4.4) *
+                               Eigen::AngleAxisd(0.5 * std::numbers::pi, Vec3::UnitX()) *
+                               Eigen::Translation3d(0, 0, -4.4);
+  const Eigen::Affine3d twist(Eigen::AngleAxisd(2.0 * std::numbers::pi / 3.0, Vec3::UnitZ()));
+  const auto edit = [&](bool top, bool bottom, int k) {
+    Edit e;
+    e.settings.order = k;
+    e.deformation = Deformation::Nonlinear;
+    e.multiresolution = false;
+    e.nonlinear.tolerance = 1e-9;
+    EditHandle up, down;
+    for (Vertex v : mesh.vertices()) {
+      if ((top && in_top(v)) || (bottom && in_bottom(v))) e.support.push_back(v);
+      if (top && mesh.position(v).z() > 5.5) up.vertices.push_back(v);
+      if (bottom && mesh.position(v).z() < 0.5) down.vertices.push_back(v);
+    }
+    if (top) e.handles.push_back(up);
+    if (bottom) e.handles.push_back(down);
+    return e;
+  };
+  for (int k : {2, 3}) {
+    VertexData<Vec3> joint = mesh.positions(), top = joint, bottom = joint;
+    const EditSolver both(mesh, edit(true, true, k));
+    both.evaluate(std::vector<Eigen::Affine3d>{bend, twist}, joint);
+    EditSolver(mesh, edit(true, false, k)).evaluate(std::vector<Eigen::Affine3d>{bend}, top);
+    EditSolver(mesh, edit(false, true, k)).evaluate(std::vector<Eigen::Affine3d>{twist}, bottom);
+    ASSERT_TRUE(both.nonlinear_state()->converged) << "k = " << k;
+    double top_gap = 0.0, bottom_gap = 0.0, moved = 0.0;
+    for (Vertex v : mesh.vertices()) {
+      const Vec3& alone = in_top(v) ? top[v] : bottom[v];
+      (in_top(v) ? top_gap : bottom_gap) = std::max(in_top(v) ? top_gap : bottom_gap, (joint[v] - alone).norm());
+      moved = std::max(moved, (joint[v] - mesh.position(v)).norm());
+    }
+    EXPECT_GT(moved, 1.0) << "k = " << k;
+    EXPECT_LT(top_gap, 1e-6) << "k = " << k;
+    EXPECT_LT(bottom_gap, 1e-6) << "k = " << k;
+  }
+}
+
 // A caller (Python's Ctrl-C) can stop a solve between two iterations; the positions stay as
 // they were and the next evaluate starts afresh (the same result as without the cancel).
 TEST(Nonlinear, EvaluateCanBeCancelledBetweenIterations) {

@@ -44,10 +44,8 @@ std::vector<double> power_kernel(const Eigen::SparseMatrix<double, Eigen::RowMaj
   return x;
 }
 
-std::vector<double> filter_kernel(const Eigen::SparseMatrix<double, Eigen::RowMajor>& lap, int v, int n,
-                                  int* sums = nullptr) {
-  const RingSmoothing smoothing(lap, n);
-  if (sums) *sums = smoothing.sums();
+std::vector<double> filter_kernel(const RingSmoothing& smoothing,
+                                  const Eigen::SparseMatrix<double, Eigen::RowMajor>& lap, int v) {
   std::vector<Eigen::Matrix3d> cov(static_cast<std::size_t>(lap.rows()), Eigen::Matrix3d::Zero()), work;
   cov[static_cast<std::size_t>(v)] = Eigen::Matrix3d::Identity();
   smoothing.apply(cov, work);
@@ -58,6 +56,13 @@ std::vector<double> filter_kernel(const Eigen::SparseMatrix<double, Eigen::RowMa
     k[i] = cov[i](0, 0);
   }
   return k;
+}
+
+std::vector<double> filter_kernel(const Eigen::SparseMatrix<double, Eigen::RowMajor>& lap, int v, int n,
+                                  int* sums = nullptr) {
+  const RingSmoothing smoothing(lap, n);
+  if (sums) *sums = smoothing.sums();
+  return filter_kernel(smoothing, lap, v);
 }
 
 // Second moment about the impulse, in squared grid steps.
@@ -96,10 +101,8 @@ TEST(RingSmoothing, ManyPassesTakeFewerSumsForTheSameWidth) {
   }
 }
 
-// Separate parts of the graph are filtered each with its own spectrum: a small part next to a
-// large one is smoothed like the same part alone.
-TEST(RingSmoothing, ComponentsAreFilteredApart) {
-  const int w = 41, small = 9;
+// Two grids side by side, w x w and small x small, as one pattern.
+Eigen::SparseMatrix<double, Eigen::RowMajor> two_grids(int w, int small) {
   const auto big = grid_pattern(w), part = grid_pattern(small);
   std::vector<Eigen::Triplet<double>> t;
   for (int i = 0; i < big.outerSize(); ++i)
@@ -110,6 +113,14 @@ TEST(RingSmoothing, ComponentsAreFilteredApart) {
       t.emplace_back(w * w + i, w * w + e.col(), e.value());
   Eigen::SparseMatrix<double, Eigen::RowMajor> both(w * w + small * small, w * w + small * small);
   both.setFromTriplets(t.begin(), t.end());
+  return both;
+}
+
+// Separate parts of the graph are filtered each with its own spectrum: a small part next to a
+// large one is smoothed like the same part alone.
+TEST(RingSmoothing, ComponentsAreFilteredApart) {
+  const int w = 41, small = 9;
+  const auto part = grid_pattern(small), both = two_grids(w, small);
   const int v = 4 * small + 4;
   const std::vector<double> alone = filter_kernel(part, v, 20), joint = filter_kernel(both, w * w + v, 20);
   const double scale_alone = alone[static_cast<std::size_t>(v)],
@@ -118,6 +129,29 @@ TEST(RingSmoothing, ComponentsAreFilteredApart) {
     EXPECT_NEAR(joint[static_cast<std::size_t>(w * w + i)] / scale_joint,
                 alone[static_cast<std::size_t>(i)] / scale_alone, 1e-9)
         << i;
+}
+
+// Each component with its own passes (the nonlinear model's parts of a support, part_settings.h):
+// each is smoothed to the bit as alone with its passes, the power (below 16) or the Chebyshev
+// filter (from 16), whichever the other takes.
+TEST(RingSmoothing, EachComponentTakesItsOwnPasses) {
+  const int w = 41, small = 9;
+  const auto big = grid_pattern(w), part = grid_pattern(small), both = two_grids(w, small);
+  const int in_big = 20 * w + 20, in_small = 4 * small + 4;
+  for (const auto& [big_passes, small_passes] : {std::pair{9, 20}, std::pair{28, 5}, std::pair{3, 3}}) {
+    const RingSmoothing joint(both, std::vector<int>{big_passes, small_passes});
+    EXPECT_EQ(joint.sums(), std::max(RingSmoothing(big, big_passes).sums(), RingSmoothing(part, small_passes).sums()));
+    const std::vector<double> big_alone = filter_kernel(big, in_big, big_passes),
+                              small_alone = filter_kernel(part, in_small, small_passes),
+                              big_joint = filter_kernel(joint, both, in_big),
+                              small_joint = filter_kernel(joint, both, w * w + in_small);
+    for (int i = 0; i < w * w; ++i)
+      ASSERT_EQ(big_joint[static_cast<std::size_t>(i)], big_alone[static_cast<std::size_t>(i)])
+          << big_passes << ", " << i;
+    for (int i = 0; i < small * small; ++i)
+      ASSERT_EQ(small_joint[static_cast<std::size_t>(w * w + i)], small_alone[static_cast<std::size_t>(i)])
+          << small_passes << ", " << i;
+  }
 }
 
 }  // namespace

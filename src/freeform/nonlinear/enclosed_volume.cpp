@@ -36,69 +36,90 @@ void add_sums(std::array<double, 1>& total, const std::array<double, 1>& s) { to
 
 }  // namespace
 
+// Who moves in which volume. Support parts that share a handle keep one volume together (the
+// handle's motion belongs to both, so neither alone restores what it changed); each other part
+// keeps its own. A free vertex moves in its group's volume, a handle's vertices in the group its
+// rows lie in, or in every group's where they lie in none.
+struct EnclosedVolumes::Roles {
+  VertexData<int> group;          // free vertices: their group of support parts; others -1
+  VertexData<int> owner;          // handle vertices: their movable handle; others -1
+  std::vector<int> handle_group;  // per movable handle: its group, or -1 (every group's)
+
+  Roles(const Mesh& mesh, const VertexData<int>& local, int n_free, const Regions& regions,
+        std::span<const int> part_of_row)
+      : group(static_cast<std::size_t>(mesh.n_vertices()), -1),
+        owner(static_cast<std::size_t>(mesh.n_vertices()), -1),
+        handle_group(static_cast<std::size_t>(regions.n_movable()), -1) {
+    const auto part_of = [&](int row) {
+      return row >= 0 && row < static_cast<int>(part_of_row.size()) ? part_of_row[static_cast<std::size_t>(row)] : 0;
+    };
+    // Union-find over the parts, joined through the handles their rows reach.
+    std::vector<int> root(
+        part_of_row.empty() ? 1
+                            : static_cast<std::size_t>(*std::max_element(part_of_row.begin(), part_of_row.end()) + 1));
+    for (std::size_t i = 0; i < root.size(); ++i) root[i] = static_cast<int>(i);
+    const auto find = [&root](int a) {
+      while (root[static_cast<std::size_t>(a)] != a)
+        a = root[static_cast<std::size_t>(a)] = root[static_cast<std::size_t>(root[static_cast<std::size_t>(a)])];
+      return a;
+    };
+    for (Vertex v : mesh.vertices()) {
+      const int row = local[v], h = regions.handle_of(v);
+      owner[v] = h >= 0 ? regions.movable_index(h) : -1;
+      if (owner[v] < 0 || row < n_free || row >= static_cast<int>(part_of_row.size())) continue;
+      int& hg = handle_group[static_cast<std::size_t>(owner[v])];
+      if (hg < 0)
+        hg = part_of(row);
+      else
+        root[static_cast<std::size_t>(find(hg))] = find(part_of(row));
+    }
+    for (int& hg : handle_group)
+      if (hg >= 0) hg = find(hg);
+    for (Vertex v : mesh.vertices())
+      if (local[v] >= 0 && local[v] < n_free) group[v] = find(part_of(local[v]));
+  }
+  // Vertex v stays at its rest in group g's volume.
+  bool at_rest(Vertex v, int g) const {
+    if (group[v] >= 0) return group[v] != g;
+    const int m = owner[v];
+    return m >= 0 && handle_group[static_cast<std::size_t>(m)] >= 0 && handle_group[static_cast<std::size_t>(m)] != g;
+  }
+};
+
 EnclosedVolumes::EnclosedVolumes(const Mesh& mesh, const VertexData<Vec3>& rest, const VertexData<int>& local,
-                                 int n_free, const Regions& regions)
+                                 int n_free, const Regions& regions, std::span<const int> part_of_row)
     : n_free_(n_free) {
   const Components comp = connected_components(mesh);
-  std::vector<int> part_of(static_cast<std::size_t>(comp.count), -1);
   std::vector<char> closed(static_cast<std::size_t>(comp.count), 1), has_free(static_cast<std::size_t>(comp.count), 0);
   for (Halfedge h : mesh.halfedges())
     if (mesh.is_boundary(h)) closed[static_cast<std::size_t>(comp.vertex_component[mesh.to_vertex(h)])] = 0;
   for (Vertex v : mesh.vertices())
     if (local[v] >= 0 && local[v] < n_free) has_free[static_cast<std::size_t>(comp.vertex_component[v])] = 1;
+  std::vector<int> kept(static_cast<std::size_t>(comp.count), -1);
+  std::vector<std::vector<Vertex>> vertices;
+  std::vector<std::vector<Face>> faces;
   for (int c = 0; c < comp.count; ++c)
     if (closed[static_cast<std::size_t>(c)] && has_free[static_cast<std::size_t>(c)]) {
-      part_of[static_cast<std::size_t>(c)] = count();
-      parts_.emplace_back();
+      kept[static_cast<std::size_t>(c)] = static_cast<int>(vertices.size());
+      vertices.emplace_back();
+      faces.emplace_back();
     }
-  if (parts_.empty()) return;
+  if (vertices.empty()) return;
+  for (Vertex v : mesh.vertices())
+    if (const int k = kept[static_cast<std::size_t>(comp.vertex_component[v])]; k >= 0 && !mesh.is_isolated(v))
+      vertices[static_cast<std::size_t>(k)].push_back(v);
+  for (Face f : mesh.faces())
+    if (const int k = kept[static_cast<std::size_t>(comp.face_component[f])]; k >= 0)
+      faces[static_cast<std::size_t>(k)].push_back(f);
+  const Roles roles(mesh, local, n_free, regions, part_of_row);
   VertexData<int> extra_index(static_cast<std::size_t>(mesh.n_vertices()), -1);
-  for (Vertex v : mesh.vertices()) {
-    const int p = comp.vertex_component[v] >= 0 ? part_of[static_cast<std::size_t>(comp.vertex_component[v])] : -1;
-    if (p < 0 || mesh.is_isolated(v)) continue;
-    Part& part = parts_[static_cast<std::size_t>(p)];
-    if (local[v] >= 0) {
-      part.local_rows.push_back(local[v]);
-    } else {
-      extra_index[v] = static_cast<int>(part.extra.size());
-      part.extra.push_back(v);
-      const int h = regions.handle_of(v);
-      part.extra_owner.push_back(h >= 0 ? regions.movable_index(h) : -1);
-      part.extra_rest.push_back(rest[v]);
-    }
-    part.centre += rest[v];
-  }
-  for (Face f : mesh.faces()) {
-    const int p = part_of[static_cast<std::size_t>(comp.face_component[f])];
-    if (p < 0) continue;
-    std::array<int, 3> corners{};
-    const std::array<Vertex, 3> vs = mesh.vertices(f);
-    bool moves = false;
-    for (int k = 0; k < 3; ++k) {
-      const int row = local[vs[k]];
-      corners[static_cast<std::size_t>(k)] = row >= 0 ? row : -1 - extra_index[vs[k]];
-      moves = moves || (row >= 0 && row < n_free);
-    }
-    (moves ? parts_[static_cast<std::size_t>(p)].moving : parts_[static_cast<std::size_t>(p)].fixed).push_back(corners);
-  }
-  for (Part& part : parts_) {
-    part.centre /= static_cast<double>(part.local_rows.size() + part.extra.size());
-    part.extra_now = part.extra_rest;
-    index_free_corners(part);
-  }
-  std::vector<double> extent(parts_.size(), 0.0);
-  for (Vertex v : mesh.vertices()) {
-    const int p = comp.vertex_component[v] >= 0 ? part_of[static_cast<std::size_t>(comp.vertex_component[v])] : -1;
-    if (p >= 0 && !mesh.is_isolated(v)) {
-      const auto up = static_cast<std::size_t>(p);
-      extent[up] = std::max(extent[up], (rest[v] - parts_[up].centre).cwiseAbs().maxCoeff());
-    }
-  }
-  for (std::size_t p = 0; p < parts_.size(); ++p) {
-    int e = 0;
-    std::frexp(extent[p] > 0.0 && std::isfinite(extent[p]) ? extent[p] : 1.0, &e);
-    parts_[p].scale = std::ldexp(1.0, e);
-    parts_[p].inv_scale = std::ldexp(1.0, -e);
+  for (std::size_t k = 0; k < vertices.size(); ++k) {
+    std::vector<int> groups;
+    for (Vertex v : vertices[k])
+      if (roles.group[v] >= 0) groups.push_back(roles.group[v]);
+    std::sort(groups.begin(), groups.end());
+    groups.erase(std::unique(groups.begin(), groups.end()), groups.end());
+    for (int g : groups) add_part(mesh, rest, local, roles, g, vertices[k], faces[k], extra_index);
   }
   // The rest volume from the rest rows, by the same code as every frame's (exact at identity).
   Eigen::Index rows = 0;
@@ -110,6 +131,45 @@ EnclosedVolumes::EnclosedVolumes(const Mesh& mesh, const VertexData<Vec3>& rest,
     part.fixed_sum = fixed_sum(part, x);
     part.rest_volume = part.target = (part.fixed_sum + moving_sum(part, x)) / 6.0;
   }
+}
+
+void EnclosedVolumes::add_part(const Mesh& mesh, const VertexData<Vec3>& rest, const VertexData<int>& local,
+                               const Roles& roles, int group, const std::vector<Vertex>& vertices,
+                               const std::vector<Face>& faces, VertexData<int>& extra_index) {
+  Part& part = parts_.emplace_back();
+  for (Vertex v : vertices) {
+    const bool at_rest = roles.at_rest(v, group);
+    if (local[v] >= 0 && !at_rest) {
+      part.local_rows.push_back(local[v]);
+    } else {
+      extra_index[v] = static_cast<int>(part.extra.size());
+      part.extra.push_back(v);
+      part.extra_owner.push_back(at_rest ? -1 : roles.owner[v]);
+      part.extra_rest.push_back(rest[v]);
+    }
+    part.centre += rest[v];
+  }
+  part.centre /= static_cast<double>(vertices.size());
+  for (Face f : faces) {
+    std::array<int, 3> corners{};
+    const std::array<Vertex, 3> vs = mesh.vertices(f);
+    bool moves = false;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const int row = local[vs[k]];
+      corners[k] = row >= 0 && !roles.at_rest(vs[k], group) ? row : -1 - extra_index[vs[k]];
+      moves = moves || (corners[k] >= 0 && corners[k] < n_free_);
+    }
+    (moves ? part.moving : part.fixed).push_back(corners);
+  }
+  part.extra_now = part.extra_rest;
+  index_free_corners(part);
+  double extent = 0.0;
+  for (Vertex v : vertices) extent = std::max(extent, (rest[v] - part.centre).cwiseAbs().maxCoeff());
+  int e = 0;
+  std::frexp(extent > 0.0 && std::isfinite(extent) ? extent : 1.0, &e);
+  part.scale = std::ldexp(1.0, e);
+  part.inv_scale = std::ldexp(1.0, -e);
+  for (Vertex v : part.extra) extra_index[v] = -1;
 }
 
 void EnclosedVolumes::index_free_corners(Part& part) const {

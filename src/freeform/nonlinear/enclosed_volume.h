@@ -22,10 +22,16 @@ class EnclosedVolumes {
   using RowMatrixX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
   // local[v]: v's row among the model's vertices (free rows first, n_free of them), or -1.
-  // Keeps the closed components (no boundary edge) with a free vertex.
+  // Keeps the closed components (no boundary edge) with a free vertex. part_of_row (optional):
+  // the support part of each row (its first rows; support_parts(), part_settings.h): each closed
+  // component keeps one volume per support part in it (parts that share a handle together), in
+  // which the other parts' free vertices and handles stay at rest, so that every part restores
+  // what its own deformation changed (as when edited alone) and does not inflate the others.
   EnclosedVolumes(const Mesh& mesh, const VertexData<Vec3>& rest, const VertexData<int>& local, int n_free,
-                  const Regions& regions);
+                  const Regions& regions, std::span<const int> part_of_row = {});
 
+  // The volumes kept: per closed component with free vertices, one per support part (or parts
+  // sharing a handle) in it.
   int count() const { return static_cast<int>(parts_.size()); }
 
   // For one frame: places the vertices the model does not hold (handle interiors, fixed
@@ -70,6 +76,11 @@ class EnclosedVolumes {
   };
   std::vector<Part> parts_;
   int n_free_ = 0;
+
+  struct Roles;
+  void add_part(const Mesh& mesh, const VertexData<Vec3>& rest, const VertexData<int>& local, const Roles& roles,
+                int group, const std::vector<Vertex>& vertices, const std::vector<Face>& faces,
+                VertexData<int>& extra_index);
 
   Vec3 corner(const Part& part, int index, const RowMatrixX3d& x) const;
   void index_free_corners(Part& part) const;

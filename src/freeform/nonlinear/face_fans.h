@@ -67,6 +67,7 @@ class FaceFans {
   // The distinct faces of the fans (each is in up to three rows' fans), and face f's mean of
   // its corners' rot: rotated() takes these means, one per face (computed once, not per row).
   int n_faces() const { return static_cast<int>(corners_.size()); }
+  const std::array<int, 3>& corners(int face) const { return corners_[static_cast<std::size_t>(face)]; }
   Eigen::Matrix3d mean(int face, const std::vector<Eigen::Matrix3d>& rot) const;
 
   // The membrane target's scale for an edge stretched by `stretch` along its target (the

@@ -7,6 +7,7 @@
 #include "freeform/nonlinear/drift.h"
 #include "freeform/nonlinear/enclosed_volume.h"
 #include "freeform/nonlinear/face_fans.h"
+#include "freeform/nonlinear/part_settings.h"
 #include "freeform/nonlinear/ring_smoothing.h"
 #include "freeform/nonlinear/rotation.h"
 
@@ -24,50 +25,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr int kParallelRows = 2048;
-// Automatic rotation smoothing: passes grow with the support's width in edges (~sqrt of its
-// vertex count), so the smoothed patch covers a similar part of it at any resolution (each
-// pass widens the fit's kernel by about a ring's square root). Measured (docs/nonlinear.md):
-// - a smooth multiresolution base: the S-bent plane (32k free) folds its first bumps below
-//   ~40 passes: 0.25 sqrt(free);
-// - a detailed surface (the gallery's limbs, 40-23,000 free): 0.25 sqrt(free) squeezed the
-//   bends (4,040 / 5,439 collapsed faces at k = 2 / 3), 0.15 sqrt(free) from 3 passes on
-//   collapses 37 % fewer with 3 % fewer folds; narrower still folds more and converges worse.
-// The cap bounds the cost per iteration.
-constexpr double kSmoothingPerSqrtFree = 0.15, kBaseSmoothingPerSqrtFree = 0.25;
-constexpr int kMinSmoothingRings = 3, kMinBaseSmoothingRings = 2, kMaxSmoothingRings = 64;
-// Automatic membrane weight (NonlinearOptions::membrane): kMembrane[k] (kMembraneFree / free) to the
-// power kMembranePower[k], one power more below kMembraneFree, at most kMaxMembrane, so that the
-// membrane's share shrinks as the support grows, like the fit's width. Chosen on the gallery
-// (docs/nonlinear.md, 12 to 14 and 24): heavier weights squeeze fewer faces but fold or cycle on
-// the survey's bar, S-bent plane and capsule; a limb only a few rings across needs more of it,
-// up to twice the bending term's weight.
-constexpr double kMembrane[] = {0.0, 0.0, 0.3, 0.03}, kMembranePower[] = {0.0, 0.0, 1.0, 1.5};
-constexpr double kMembraneFree = 500.0, kMaxMembrane = 2.0;
-// The membrane turns with its own 1-ring rotations (ARAP's) up to this many free vertices;
-// beyond, with the bending term's smoothed field: on large supports the 1-ring rotations made the
-// editor benchmark's drags settle far later, at k = 2 and 3 alike (docs/nonlinear.md, "What the
-// gallery found", 22).
-constexpr int kLocalMembraneMaxFree = 10000;
-// How the membrane's targets follow the edges' stretch (face_fans.h). With its own 1-ring
-// rotations: compressed edges pushed out, stretched ones pulled back halfway (chosen on the
-// gallery, docs/nonlinear.md, "What the gallery found", 21). Up to kStiffCompressionFull free
-// vertices pushed out by their whole compression: limbs keep their cross-sections and crooks
-// fold less (items 35 and 40; it converges on supports this large since sliding iterations are
-// moved on, drift.h; not beyond: the subdivided armadillo's arm twist folded), blended into the
-// former up to kStiffCompressionNone. Stretched edges are pulled back by only a fifth of their
-// stretch up to kReleasedStretchFull, blended into half by kReleasedStretchNone: released on
-// larger supports, the survey's twisted bar (1,640 free) buckled in its middle (item 40).
-// Fed back through the right-hand side alone, that push flips a mode's sign every iteration, so
-// there the factored operator holds kLaggedMembrane more of the membrane's weight and the
-// right-hand side gives it back at the current iterate: the fixed points stay, and for a
-// compressed edge the feedback cancels. With the smoothed field (larger supports still) a stretch
-// is resisted fully and the push's onset is smooth: releasing stretch, or a kink at the rest
-// length, made the editor benchmark's bunny twist settle in 40-300 iterations instead of 25-28;
-// without the push the subdivided armadillo's knee crumpled at C0 (item 28).
-constexpr OneSided kLocalMembrane{}, kStiffCompression{1.0, 0.8, 0.0}, kFieldMembrane{0.5, 0.0, 0.1};
-constexpr double kStiffCompressionFull = 5000.0, kStiffCompressionNone = 8000.0;
-constexpr double kReleasedStretchFull = 1000.0, kReleasedStretchNone = 1500.0;
-constexpr double kLaggedMembrane = 1.0;
 // Above this many free vertices the volume term's response to the gradient at the iterate is
 // solved together with the step (one back-substitution of 6 columns instead of two of 3; the
 // solves are most of an iteration there). Below it the response is to the gradient after the
@@ -158,12 +115,16 @@ struct NonlinearSolver::Data {
   std::vector<Eigen::Matrix3d> means;      // per face of the fans (arap_rows' workspace)
   std::vector<FaceFans::EdgeTerms> terms;  // per face of the fans, with one-sided targets (arap_rows')
   std::vector<Eigen::Matrix3d> cov, cov2;  // workspace of the rotation fit
-  // The membrane term (add_membrane): its weight, and at order 2 its own rotations, fitted to
-  // the 1-ring alone (ARAP's local step), with its rotated minus rest edges (P x 3).
-  double mu = 0.0;
-  double lagged = 0.0;  // the membrane's extra weight in the operator, lagged on the right-hand side
-  bool local_membrane = false;
-  OneSided one_sided{};  // the targets of the membrane's own rotations (kStiffCompression's blend)
+  // The membrane term (add_membrane), with each part of the support's settings (part_settings.h):
+  // per free row its weight mu and lagged weight (lagged mu); per face of the fans its targets;
+  // on the parts with a local membrane its own rotations, fitted to the 1-ring alone (ARAP's
+  // local step), the field's elsewhere; its rotated minus rest edges (P x 3).
+  bool membrane = false;
+  Eigen::VectorXd mu, lagged_mu;
+  bool lagged = false;                 // some lagged_mu is not 0
+  std::vector<char> local_row;         // per free row: in a part with a local membrane
+  bool local_membrane = false;         // some part has one
+  std::vector<OneSided> face_targets;  // per face of the fans
   std::vector<Eigen::Quaterniond> q_local;
   std::vector<Eigen::Matrix3d> rot_local;
   Eigen::MatrixXd b_mem;
@@ -191,14 +152,15 @@ struct NonlinearSolver::Data {
     for (int c = 0; c < volumes->count(); ++c) {
       volumes->gradient(c, x, grad);
       times_rows(outer, grad, out.middleCols(3 * c, 3));
-      if (mu != 0.0) out.middleCols(3 * c, 3) += mu * grad.topRows(p);
+      if (membrane) out.middleCols(3 * c, 3) += mu.asDiagonal() * grad.topRows(p);
     }
   }
   // The lagged part of the membrane (add_membrane): lagged mu times its Laplacian rows at the
   // current iterate, which the same extra weight in the operator takes back at a fixed point.
   void add_lagged_membrane(int p, Eigen::Ref<Eigen::MatrixXd> rhs) const {
-    const double w = lagged * mu;
     parallel_rows(p, [&](int i) {
+      const double w = lagged_mu(i);
+      if (w == 0.0) return;
       Vec3 sum = Vec3::Zero();
       for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator e(sys->lap, i); e; ++e)
         sum += e.value() * (row(x.data(), e.col()) - row(rest.data(), e.col()));
@@ -259,12 +221,14 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
     d.owner[static_cast<std::size_t>(j)] = h >= 0 ? regions.movable_index(h) : -1;
   }
   d.x = d.rest;
-  const double per_sqrt = options.smooth_rest ? kBaseSmoothingPerSqrtFree : kSmoothingPerSqrtFree;
-  const int smoothing_rings =
-      options.rotation_smoothing >= 0
-          ? options.rotation_smoothing
-          : std::clamp(static_cast<int>(std::lround(per_sqrt * std::sqrt(double(p)))),
-                       options.smooth_rest ? kMinBaseSmoothingRings : kMinSmoothingRings, kMaxSmoothingRings);
+  // Each connected part of the support with the settings of its own size (part_settings.h).
+  const SupportParts parts = support_parts(d.sys->lap, p);
+  std::vector<PartSettings> settings;
+  std::vector<int> passes;
+  for (int free_rows : parts.free) {
+    settings.push_back(part_settings(free_rows, d.sys->order, options));
+    passes.push_back(settings.back().smoothing_rings);
+  }
   if (p + c > 0) d.extent = std::max((d.rest.colwise().maxCoeff() - d.rest.colwise().minCoeff()).norm(), 1e-300);
 
   // Guidance weights: a translation t moves free vertex i by (sum of its basis row over the
@@ -275,17 +239,12 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
 
   // The smoothing over the free vertices and the constrained (k-1)-ring (the rows of the
   // operator's Laplacian), and their triangle fans.
-  d.smoothing.emplace(d.sys->lap, smoothing_rings);
+  d.smoothing.emplace(d.sys->lap, passes);
   std::vector<Vertex> global(free.begin(), free.end());
   global.insert(global.end(), d.sys->constrained.begin(), d.sys->constrained.end());
   d.fans.emplace(mesh, local, global, d.rest.data(), d.sys->lap);
-  double membrane = options.membrane;
-  if (membrane < 0.0) {  // automatic; order 1 is a membrane already
-    const int order = std::clamp(d.sys->order, 0, 3);
-    const double ratio = kMembraneFree / std::max(p, 1);
-    membrane = std::min(kMembrane[order] * std::pow(ratio, kMembranePower[order]) * std::max(ratio, 1.0), kMaxMembrane);
-  }
-  if (membrane > 0.0 && p > 0) add_membrane(membrane);
+  if (p > 0 && std::any_of(settings.begin(), settings.end(), [](const PartSettings& s) { return s.membrane > 0.0; }))
+    add_membrane(parts, settings);
   d.q.assign(static_cast<std::size_t>(p + c), Eigen::Quaterniond::Identity());
   d.guide.assign(static_cast<std::size_t>(p), Eigen::Quaterniond::Identity());
   d.scale.assign(static_cast<std::size_t>(p + c), 1.0);
@@ -293,7 +252,7 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
   d.cov.resize(static_cast<std::size_t>(d.n_inner));
   d.cov2.resize(static_cast<std::size_t>(d.n_inner));
   if (options.preserve_volume) {
-    d.volumes.emplace(mesh, rest, local, p, regions);
+    d.volumes.emplace(mesh, rest, local, p, regions, parts.of_row);
     if (d.volumes->count() == 0) d.volumes.reset();
   }
   d.grad = Eigen::MatrixXd::Zero(d.n_inner, 3);
@@ -405,20 +364,18 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
     auto rhs = both.leftCols(3);
     times_rows(d.outer, d.b1, rhs);
     rhs -= d.ac;
-    if (!d.local_membrane) {
-      if (d.mu != 0.0) {
-        arap_rows(d.rot, d.b_mem, &kFieldMembrane);
-        rhs += d.mu * d.b_mem;
-      }
-    } else {
-      parallel_rows(n_local, [&](int i) {
-        const auto ui = static_cast<std::size_t>(i);
-        d.rot_local[ui] =
-            i < p ? d.scale[ui] * d.q_local[ui].toRotationMatrix() - Eigen::Matrix3d::Identity() : d.rot[ui];
-      });
-      arap_rows(d.rot_local, d.b_mem, &d.one_sided);
-      rhs += d.mu * d.b_mem;
-      if (d.lagged != 0.0) d.add_lagged_membrane(p, rhs);
+    if (d.membrane) {  // the parts with a local membrane turn it with their own rotations
+      if (d.local_membrane)
+        parallel_rows(n_local, [&](int i) {
+          const auto ui = static_cast<std::size_t>(i);
+          d.rot_local[ui] =
+              i < p && d.local_row[ui] != 0
+                  ? Eigen::Matrix3d(d.scale[ui] * d.q_local[ui].toRotationMatrix() - Eigen::Matrix3d::Identity())
+                  : d.rot[ui];
+        });
+      arap_rows(d.local_membrane ? d.rot_local : d.rot, d.b_mem, &d.face_targets);
+      rhs += d.mu.asDiagonal() * d.b_mem;
+      if (d.lagged) d.add_lagged_membrane(p, rhs);
     }
     if (joint) d.volume_rhs(p, both.rightCols(volume_cols));
     // The backward error depends on the factor far more than on the right-hand side: the
@@ -474,39 +431,57 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
 // rows, sigma giving mu E lap the sign of A_pp's diagonal, mu = weight * mean |diag A_pp| /
 // mean |diag L_pp| (the ratio at the scale of a ring); the right-hand side gains mu b(R) on the
 // free rows. Both energies vanish at rest and move rigidly with the constraints: identity and
-// rigid edits are unchanged. Factors the new A_pp.
-void NonlinearSolver::add_membrane(double weight) {
+// rigid edits are unchanged. Each part of the support has its own weight, ratio and targets (no
+// entry of lap joins two parts, so A_pp stays symmetric). Factors the new A_pp.
+void NonlinearSolver::add_membrane(const SupportParts& parts, const std::vector<PartSettings>& settings) {
   Data& d = *d_;
   const int p = n_free_, n = static_cast<int>(d.sys->lap.cols());
-  const Eigen::SparseMatrix<double> membrane = d.sys->lap.topRows(p);  // E * lap
+  const auto part = [&parts](Eigen::Index row) {
+    return static_cast<std::size_t>(parts.of_row[static_cast<std::size_t>(row)]);
+  };
+  Eigen::SparseMatrix<double> membrane = d.sys->lap.topRows(p);  // E * lap
   Eigen::SparseMatrix<double> full = d.sys->outer * d.sys->lap;
-  double da = 0.0, dl = 0.0;
+  std::vector<double> da(settings.size(), 0.0), dl(settings.size(), 0.0), mu(settings.size());
   for (int i = 0; i < p; ++i) {
-    da += full.coeff(i, i);
-    dl += membrane.coeff(i, i);
+    da[part(i)] += full.coeff(i, i);
+    dl[part(i)] += membrane.coeff(i, i);
   }
-  const double sign = (da > 0.0) == (dl > 0.0) ? 1.0 : -1.0;
-  const double mu = sign * weight * std::abs(da) / std::max(std::abs(dl), 1e-300);
-  const auto share = [p](double from, double to) { return std::clamp((to - p) / (to - from), 0.0, 1.0); };
-  const double stiff = share(kStiffCompressionFull, kStiffCompressionNone);
-  const double released = share(kReleasedStretchFull, kReleasedStretchNone);
-  const auto blend = [](double t, double from, double to) { return from + t * (to - from); };
-  d.one_sided = {blend(stiff, kLocalMembrane.compression_gain, kStiffCompression.compression_gain),
-                 blend(released, kLocalMembrane.stretch_share, kStiffCompression.stretch_share), 0.0};
-  d.lagged = stiff * kLaggedMembrane;
-  full += (1.0 + d.lagged) * mu * membrane;
+  for (std::size_t c = 0; c < mu.size(); ++c) {
+    const double sign = (da[c] > 0.0) == (dl[c] > 0.0) ? 1.0 : -1.0;
+    mu[c] = sign * settings[c].membrane * std::abs(da[c]) / std::max(std::abs(dl[c]), 1e-300);
+  }
+  d.mu.resize(p);
+  d.lagged_mu.resize(p);
+  d.local_row.resize(static_cast<std::size_t>(p));
+  for (int i = 0; i < p; ++i) {
+    const PartSettings& s = settings[part(i)];
+    d.mu(i) = mu[part(i)];
+    d.lagged_mu(i) = s.lagged * mu[part(i)];
+    // Measured on the gallery (docs/nonlinear.md, 12): with the 1-ring rotations the membrane is
+    // ARAP itself, and k = 3 collapses a third fewer faces than with the smoothed ones, as many
+    // folds (with the spokes-only ARAP of before it folded twice as many).
+    d.local_row[static_cast<std::size_t>(i)] = s.local_membrane ? 1 : 0;
+  }
+  for (int k = 0; k < membrane.outerSize(); ++k)  // the operator holds (1 + lagged) mu of it
+    for (Eigen::SparseMatrix<double>::InnerIterator e(membrane, k); e; ++e)
+      e.valueRef() = (1.0 + settings[part(e.row())].lagged) * mu[part(e.row())] * e.value();
+  full += membrane;
   Eigen::SparseMatrix<double> app = full.leftCols(p), apc = full.rightCols(n - p);
   const bool symmetric = is_symmetric(app, 1e-10);
   d.sys->solver = SparseSolver(std::move(app), symmetric);
   d.sys->a_pc.swap(apc);
-  d.mu = mu;
-  // Measured on the gallery (docs/nonlinear.md, 12): with the 1-ring rotations the membrane is
-  // ARAP itself, and k = 3 collapses a third fewer faces than with the smoothed ones, as many folds
-  // (with the spokes-only ARAP of before it folded twice as many).
-  d.local_membrane = p <= kLocalMembraneMaxFree;
+  d.membrane = true;
+  d.lagged = (d.lagged_mu.array() != 0.0).any();
+  d.local_membrane = std::any_of(d.local_row.begin(), d.local_row.end(), [](char l) { return l != 0; });
   if (d.local_membrane) {
     d.q_local.assign(static_cast<std::size_t>(p), Eigen::Quaterniond::Identity());
     d.rot_local.resize(static_cast<std::size_t>(p) + d.owner.size());  // the constrained ones: their own
+  }
+  d.face_targets.resize(static_cast<std::size_t>(d.fans->n_faces()));
+  for (int f = 0; f < d.fans->n_faces(); ++f) {  // a face's corners among the rows lie in one part
+    const std::array<int, 3>& corners = d.fans->corners(f);
+    const int row = *std::min_element(corners.begin(), corners.end());
+    d.face_targets[static_cast<std::size_t>(f)] = settings[part(row)].targets;
   }
   d.b_mem.resize(p, 3);
 }
@@ -514,18 +489,19 @@ void NonlinearSolver::add_membrane(double weight) {
 // ARAP's rotated minus rest Laplacian coordinates of the free rows (face_fans.h): the edges to
 // constrained vertices turn with the mean of both ends, as in ARAP's energy (the bending term's
 // C^(k-1) boundary rule is not the membrane's: with it, our order 1 folded twice as many edges
-// of the gallery; docs/nonlinear.md, "What the gallery found", 12). one_sided (null: fixed
-// targets): how each edge's target follows its stretch at the current iterate (face_fans.h).
+// of the gallery; docs/nonlinear.md, "What the gallery found", 12). targets (null: fixed
+// targets): per face, how each edge's target follows its stretch at the current iterate
+// (face_fans.h).
 void NonlinearSolver::arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out,
-                                const OneSided* one_sided) {
+                                const std::vector<OneSided>* targets) {
   Data& d = *d_;
   out.resize(n_free_, 3);
   const auto faces = static_cast<std::size_t>(d.fans->n_faces());
-  if (one_sided) {  // each edge's term once per face, not once per row at either end
+  if (targets) {  // each edge's term once per face, not once per row at either end
     d.terms.resize(faces);
     parallel_rows(d.fans->n_faces(), [&](int f) {
-      d.terms[static_cast<std::size_t>(f)] =
-          d.fans->edge_terms(f, d.fans->mean(f, rot), d.rest.data(), d.x.data(), *one_sided);
+      const auto uf = static_cast<std::size_t>(f);
+      d.terms[uf] = d.fans->edge_terms(f, d.fans->mean(f, rot), d.rest.data(), d.x.data(), (*targets)[uf]);
     });
     parallel_rows(n_free_, [&](int i) { out.row(i) = d.fans->rotated(i, d.terms).transpose(); });
     return;
@@ -555,7 +531,8 @@ void NonlinearSolver::fit_rotations() {
   parallel_rows(d.n_inner, [&](int i) { d.cov[static_cast<std::size_t>(i)] = d.fans->covariance(i, x); });
   if (d.local_membrane)  // the membrane's rotations: the 1-ring alone
     parallel_rows(p, [&](int i) {
-      extract_rotation(d.cov[static_cast<std::size_t>(i)], d.q_local[static_cast<std::size_t>(i)]);
+      const auto ui = static_cast<std::size_t>(i);
+      if (d.local_row[ui] != 0) extract_rotation(d.cov[ui], d.q_local[ui]);
     });
   // Summing the neighbours' covariances ring by ring fits R_i to a wider patch: a smoother
   // rotation field (like SR-ARAP's smoothness term), fewer iterations, less necking. The

@@ -35,6 +35,8 @@
 namespace freeform {
 
 struct OneSided;
+struct PartSettings;
+struct SupportParts;
 
 struct NonlinearOptions {
   // Per solve(); the report says when the cap stopped it. 500 lets all gallery edits but one
@@ -119,8 +121,9 @@ class NonlinearSolver final : public IterativeModel {
 
   void fit_rotations();
   void keep_volumes();
-  void add_membrane(double weight);
-  void arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out, const OneSided* one_sided = nullptr);
+  void add_membrane(const SupportParts& parts, const std::vector<PartSettings>& settings);
+  void arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out,
+                 const std::vector<OneSided>* targets = nullptr);
 };
 
 // The model for MultiresOptions::model: the nonlinear model on the multiresolution base,

@@ -40,29 +40,19 @@ Band chebyshev_band(int n, int m, double top, double lo) {
 
 }  // namespace
 
-RingSmoothing::RingSmoothing(const Eigen::SparseMatrix<double, Eigen::RowMajor>& lap, int passes)
-    : n_(static_cast<int>(lap.rows())), passes_(passes) {
-  offset_.assign(1, 0);
-  for (int i = 0; i < n_; ++i) {
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(lap, i); it; ++it)
-      if (it.col() != i && it.col() < n_) nbr_.push_back(static_cast<int>(it.col()));
-    offset_.push_back(static_cast<int>(nbr_.size()));
-  }
-  if (passes_ >= kChebyshevMinPasses) design_filter();
-}
-
-std::vector<int> RingSmoothing::components(int& count) const {
-  std::vector<int> comp(static_cast<std::size_t>(n_), -1), stack;
+std::vector<int> connected_rows(const Eigen::SparseMatrix<double, Eigen::RowMajor>& lap, int& count) {
+  const auto n = static_cast<int>(lap.rows());
+  std::vector<int> comp(static_cast<std::size_t>(n), -1), stack;
   count = 0;
-  for (int s = 0; s < n_; ++s) {
+  for (int s = 0; s < n; ++s) {
     if (comp[static_cast<std::size_t>(s)] >= 0) continue;
     comp[static_cast<std::size_t>(s)] = count;
     for (stack.assign(1, s); !stack.empty();) {
-      const auto i = static_cast<std::size_t>(stack.back());
+      const int i = stack.back();
       stack.pop_back();
-      for (int k = offset_[i]; k < offset_[i + 1]; ++k) {
-        const auto j = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(k)]);
-        if (comp[j] >= 0) continue;
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(lap, i); it; ++it) {
+        const auto j = static_cast<std::size_t>(it.col());
+        if (it.col() == i || it.col() >= n || comp[j] >= 0) continue;
         comp[j] = count;
         stack.push_back(static_cast<int>(j));
       }
@@ -72,15 +62,42 @@ std::vector<int> RingSmoothing::components(int& count) const {
   return comp;
 }
 
-void RingSmoothing::design_filter() {
+RingSmoothing::RingSmoothing(const Eigen::SparseMatrix<double, Eigen::RowMajor>& lap, int passes)
+    : RingSmoothing(lap, std::vector<int>()) {
+  passes_.assign(degree_.size(), passes);
+  design_filters();
+}
+
+RingSmoothing::RingSmoothing(const Eigen::SparseMatrix<double, Eigen::RowMajor>& lap, const std::vector<int>& passes)
+    : n_(static_cast<int>(lap.rows())), passes_(passes) {
+  offset_.assign(1, 0);
+  for (int i = 0; i < n_; ++i) {
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(lap, i); it; ++it)
+      if (it.col() != i && it.col() < n_) nbr_.push_back(static_cast<int>(it.col()));
+    offset_.push_back(static_cast<int>(nbr_.size()));
+  }
   int count = 0;
-  const std::vector<int> comp = components(count);
-  const auto of = [&comp](std::size_t i) { return static_cast<std::size_t>(comp[i]); };
+  component_ = connected_rows(lap, count);
+  degree_.assign(static_cast<std::size_t>(count), 0);
+  roots_.resize(static_cast<std::size_t>(count));
+  if (passes_.size() == degree_.size()) design_filters();  // else the delegating constructor's
+}
+
+int RingSmoothing::sums() const {
+  int most = 0;
+  for (std::size_t c = 0; c < degree_.size(); ++c) most = std::max(most, degree_[c] > 0 ? degree_[c] : passes_[c]);
+  return most;
+}
+
+void RingSmoothing::design_filters() {
+  const std::size_t count = degree_.size();
+  if (std::none_of(passes_.begin(), passes_.end(), [](int p) { return p >= kChebyshevMinPasses; })) return;
+  const auto of = [this](std::size_t i) { return static_cast<std::size_t>(component_[i]); };
   // Each component's top eigenvalue: power iteration from the constant vector, which starts
   // close to the smoothest mode (its Rayleigh quotient, from below). A few steps suffice: the
   // design barely moves with the last digits of the top (the gallery's and the editor's
   // degrees are the same after 20 steps as after 100), and the steps are serial.
-  std::vector<double> top(static_cast<std::size_t>(count)), xy(top.size()), xx(top.size());
+  std::vector<double> top(count), xy(count), xx(count);
   std::vector<double> x(static_cast<std::size_t>(n_), 1.0), y(x.size());
   for (int it = 0; it < kPowerIterations; ++it) {
     std::fill(xy.begin(), xy.end(), 0.0);
@@ -90,58 +107,60 @@ void RingSmoothing::design_filter() {
       xy[of(i)] += x[i] * y[i];
       xx[of(i)] += x[i] * x[i];
     }
-    for (std::size_t c = 0; c < top.size(); ++c) top[c] = xy[c] / xx[c];
+    for (std::size_t c = 0; c < count; ++c) top[c] = xy[c] / xx[c];
     for (std::size_t i = 0; i < x.size(); ++i) x[i] = y[i] / top[of(i)];
   }
   // A lower bound of each spectrum, the larger of Gershgorin's, 1 - degree, and Collatz and
   // Wielandt's: x > 0 is now close to the Perron vector, A's spectral radius is at most
   // max (A x)_i / x_i, so no eigenvalue of I + A is below 2 - max (x + A x)_i / x_i.
-  std::vector<double> gershgorin(top.size(), 1.0), collatz(top.size(), 2.0);
+  std::vector<double> gershgorin(count, 1.0), collatz(count, 2.0);
   for (std::size_t i = 0; i < x.size(); ++i) {
     gershgorin[of(i)] = std::min(gershgorin[of(i)], 1.0 - (offset_[i + 1] - offset_[i]));
     collatz[of(i)] = std::min(collatz[of(i)], 2.0 - sum_at(x, i) / x[i]);
   }
-  // The lowest degree whose filter keeps every component's stop band below kRipple.
-  for (int m = static_cast<int>(std::ceil(2.0 * std::sqrt(double(passes_)))); m < passes_; ++m) {
-    std::vector<Band> bands(top.size());
-    bool ok = true;
-    for (std::size_t c = 0; c < top.size() && ok; ++c) {
-      const double lo = std::max(gershgorin[c], collatz[c]);
-      bands[c] = chebyshev_band(passes_, m, top[c], lo);
-      ok = bands[c].ripple <= kRipple || top[c] - lo < 1e-9;  // an isolated vertex: any filter
+  // Per component, the lowest degree whose filter keeps its stop band below kRipple.
+  std::vector<Band> bands(count);
+  for (std::size_t c = 0; c < count; ++c) {
+    const int passes = passes_[c];
+    if (passes < kChebyshevMinPasses) continue;
+    const double lo = std::max(gershgorin[c], collatz[c]);
+    for (int m = static_cast<int>(std::ceil(2.0 * std::sqrt(double(passes)))); m < passes; ++m) {
+      bands[c] = chebyshev_band(passes, m, top[c], lo);
+      if (bands[c].ripple > kRipple && top[c] - lo >= 1e-9) continue;  // an isolated vertex: any filter
+      degree_[c] = m;
+      // The roots r = centre + half cos(theta_j), taken from both ends of the stop band in turn
+      // (the partial products then stay within a few powers of 2 of each other).
+      for (int j = 0; j < m; ++j) {
+        const int k = j % 2 == 0 ? j / 2 : m - 1 - j / 2;
+        roots_[c].push_back(std::cos(std::numbers::pi * (k + 0.5) / m));
+      }
+      break;
     }
-    if (!ok) continue;
-    degree_ = m;
-    centre_.resize(x.size());
-    half_.resize(x.size());
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      centre_[i] = bands[of(i)].centre;
-      half_[i] = bands[of(i)].half;
-    }
-    return;
+  }
+  centre_.resize(x.size());
+  half_.resize(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    centre_[i] = bands[of(i)].centre;
+    half_[i] = bands[of(i)].half;
   }
 }
 
 void RingSmoothing::apply(std::vector<Eigen::Matrix3d>& cov, std::vector<Eigen::Matrix3d>& work) const {
   work.resize(cov.size());
-  if (degree_ == 0) {
-    for (int pass = 0; pass < passes_; ++pass) {
-      parallel_for(n_, kGrain, [&](std::ptrdiff_t a, std::ptrdiff_t b) {
-        for (auto i = static_cast<std::size_t>(a); i < static_cast<std::size_t>(b); ++i) work[i] = sum_at(cov, i);
-      });
-      std::swap(cov, work);
-    }
-    return;
-  }
-  // The polynomial as a product over its roots r = centre + half cos(theta_j), taken from both
-  // ends of the stop band in turn (the partial products then stay within a few powers of 2 of
-  // each other): each factor (I + A - r) is one pass, at a pass's cost.
-  for (int j = 0; j < degree_; ++j) {
-    const int k = j % 2 == 0 ? j / 2 : degree_ - 1 - j / 2;
-    const double cos_theta = std::cos(std::numbers::pi * (k + 0.5) / degree_);
+  // Every component takes its own steps; one that has taken them all is carried along. A
+  // Chebyshev step is a factor (I + A - r) of its polynomial, at a pass's cost.
+  for (int j = 0, steps = sums(); j < steps; ++j) {
     parallel_for(n_, kGrain, [&](std::ptrdiff_t a, std::ptrdiff_t b) {
-      for (auto i = static_cast<std::size_t>(a); i < static_cast<std::size_t>(b); ++i)
-        work[i] = sum_at(cov, i) - (centre_[i] + half_[i] * cos_theta) * cov[i];
+      for (auto i = static_cast<std::size_t>(a); i < static_cast<std::size_t>(b); ++i) {
+        const auto c = static_cast<std::size_t>(component_[i]);
+        if (degree_[c] > 0)
+          work[i] = j < degree_[c]
+                        ? Eigen::Matrix3d(sum_at(cov, i) -
+                                          (centre_[i] + half_[i] * roots_[c][static_cast<std::size_t>(j)]) * cov[i])
+                        : cov[i];
+        else
+          work[i] = j < passes_[c] ? sum_at(cov, i) : cov[i];
+      }
     });
     std::swap(cov, work);
   }

@@ -1,0 +1,97 @@
+#include "freeform/nonlinear/part_settings.h"
+
+#include "freeform/nonlinear/nonlinear_solver.h"
+#include "freeform/nonlinear/ring_smoothing.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace freeform {
+namespace {
+
+// Automatic rotation smoothing: passes grow with the support's width in edges (~sqrt of its
+// vertex count), so the smoothed patch covers a similar part of it at any resolution (each
+// pass widens the fit's kernel by about a ring's square root). Measured (docs/nonlinear.md):
+// - a smooth multiresolution base: the S-bent plane (32k free) folds its first bumps below
+//   ~40 passes: 0.25 sqrt(free);
+// - a detailed surface (the gallery's limbs, 40-23,000 free): 0.25 sqrt(free) squeezed the
+//   bends (4,040 / 5,439 collapsed faces at k = 2 / 3), 0.15 sqrt(free) from 3 passes on
+//   collapses 37 % fewer with 3 % fewer folds; narrower still folds more and converges worse.
+// The cap bounds the cost per iteration.
+constexpr double kSmoothingPerSqrtFree = 0.15, kBaseSmoothingPerSqrtFree = 0.25;
+constexpr int kMinSmoothingRings = 3, kMinBaseSmoothingRings = 2, kMaxSmoothingRings = 64;
+// Automatic membrane weight (NonlinearOptions::membrane): kMembrane[k] (kMembraneFree / free) to the
+// power kMembranePower[k], one power more below kMembraneFree, at most kMaxMembrane, so that the
+// membrane's share shrinks as the support grows, like the fit's width. Chosen on the gallery
+// (docs/nonlinear.md, 12 to 14 and 24): heavier weights squeeze fewer faces but fold or cycle on
+// the survey's bar, S-bent plane and capsule; a limb only a few rings across needs more of it,
+// up to twice the bending term's weight.
+constexpr double kMembrane[] = {0.0, 0.0, 0.3, 0.03}, kMembranePower[] = {0.0, 0.0, 1.0, 1.5};
+constexpr double kMembraneFree = 500.0, kMaxMembrane = 2.0;
+// The membrane turns with its own 1-ring rotations (ARAP's) up to this many free vertices;
+// beyond, with the bending term's smoothed field: on large supports the 1-ring rotations made the
+// editor benchmark's drags settle far later, at k = 2 and 3 alike (docs/nonlinear.md, "What the
+// gallery found", 22).
+constexpr int kLocalMembraneMaxFree = 10000;
+// How the membrane's targets follow the edges' stretch (face_fans.h). With its own 1-ring
+// rotations: compressed edges pushed out, stretched ones pulled back halfway (chosen on the
+// gallery, docs/nonlinear.md, "What the gallery found", 21). Up to kStiffCompressionFull free
+// vertices pushed out by their whole compression: limbs keep their cross-sections and crooks
+// fold less (items 35 and 40; it converges on supports this large since sliding iterations are
+// moved on, drift.h; not beyond: the subdivided armadillo's arm twist folded), blended into the
+// former up to kStiffCompressionNone. Stretched edges are pulled back by only a fifth of their
+// stretch up to kReleasedStretchFull, blended into half by kReleasedStretchNone: released on
+// larger supports, the survey's twisted bar (1,640 free) buckled in its middle (item 40).
+// Fed back through the right-hand side alone, that push flips a mode's sign every iteration, so
+// there the factored operator holds kLaggedMembrane more of the membrane's weight and the
+// right-hand side gives it back at the current iterate: the fixed points stay, and for a
+// compressed edge the feedback cancels. With the smoothed field (larger supports still) a stretch
+// is resisted fully and the push's onset is smooth: releasing stretch, or a kink at the rest
+// length, made the editor benchmark's bunny twist settle in 40-300 iterations instead of 25-28;
+// without the push the subdivided armadillo's knee crumpled at C0 (item 28).
+constexpr OneSided kLocalMembrane{}, kStiffCompression{1.0, 0.8, 0.0}, kFieldMembrane{0.5, 0.0, 0.1};
+constexpr double kStiffCompressionFull = 5000.0, kStiffCompressionNone = 8000.0;
+constexpr double kReleasedStretchFull = 1000.0, kReleasedStretchNone = 1500.0;
+constexpr double kLaggedMembrane = 1.0;
+
+}  // namespace
+
+PartSettings part_settings(int free, int order, const NonlinearOptions& options) {
+  PartSettings s;
+  const double per_sqrt = options.smooth_rest ? kBaseSmoothingPerSqrtFree : kSmoothingPerSqrtFree;
+  s.smoothing_rings =
+      options.rotation_smoothing >= 0
+          ? options.rotation_smoothing
+          : std::clamp(static_cast<int>(std::lround(per_sqrt * std::sqrt(double(free)))),
+                       options.smooth_rest ? kMinBaseSmoothingRings : kMinSmoothingRings, kMaxSmoothingRings);
+  s.membrane = options.membrane;
+  if (s.membrane < 0.0) {  // automatic; order 1 is a membrane already
+    const auto k = static_cast<std::size_t>(std::clamp(order, 0, 3));
+    const double ratio = kMembraneFree / std::max(free, 1);
+    s.membrane = std::min(kMembrane[k] * std::pow(ratio, kMembranePower[k]) * std::max(ratio, 1.0), kMaxMembrane);
+  }
+  s.local_membrane = free <= kLocalMembraneMaxFree;
+  if (!s.local_membrane) {
+    s.targets = kFieldMembrane;
+    return s;
+  }
+  const auto share = [free](double from, double to) { return std::clamp((to - free) / (to - from), 0.0, 1.0); };
+  const double stiff = share(kStiffCompressionFull, kStiffCompressionNone);
+  const double released = share(kReleasedStretchFull, kReleasedStretchNone);
+  const auto blend = [](double t, double from, double to) { return from + t * (to - from); };
+  s.targets = {blend(stiff, kLocalMembrane.compression_gain, kStiffCompression.compression_gain),
+               blend(released, kLocalMembrane.stretch_share, kStiffCompression.stretch_share), 0.0};
+  s.lagged = stiff * kLaggedMembrane;
+  return s;
+}
+
+SupportParts support_parts(const Eigen::SparseMatrix<double, Eigen::RowMajor>& lap, int n_free) {
+  SupportParts parts;
+  int count = 0;
+  parts.of_row = connected_rows(lap, count);
+  parts.free.assign(static_cast<std::size_t>(count), 0);
+  for (int i = 0; i < n_free; ++i) ++parts.free[static_cast<std::size_t>(parts.of_row[static_cast<std::size_t>(i)])];
+  return parts;
+}
+
+}  // namespace freeform
