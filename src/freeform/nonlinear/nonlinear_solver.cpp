@@ -133,7 +133,7 @@ struct NonlinearSolver::Data {
   RowMatrixX3d last;                 // P x 3: free rows before the last global step
   RowMatrixX3d linear;               // P x 3: linear BCM at the last start's transforms
   bool has_linear = false;
-  std::optional<EnclosedVolumes> volumes;  // closed components (with preserve_volume)
+  std::optional<EnclosedVolumes> volumes;  // closed components, per support part (with preserve_volume)
   Eigen::MatrixXd grad;              // n_inner x 3: volume gradient (workspace)
   std::optional<AndersonAcceleration> anderson;
   DriftExtrapolation drift;          // moves a sliding iteration on (drift.h)
@@ -146,7 +146,7 @@ struct NonlinearSolver::Data {
   RowMatrixX3d best;
   double best_step = 0.0;
 
-  // Per closed component (3 columns each), (outer + mu E) times its volume gradient at x: the
+  // Per volume kept (3 columns each), (outer + mu E) times its volume gradient at x: the
   // right-hand sides of the operator's responses u.
   void volume_rhs(int p, Eigen::Ref<Eigen::MatrixXd> out) {
     for (int c = 0; c < volumes->count(); ++c) {
@@ -512,7 +512,7 @@ void NonlinearSolver::arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::
 }
 
 void NonlinearSolver::keep_volumes() {
-  // Per closed component, the operator's response u to the volume gradient after the step
+  // Per volume kept, the operator's response u to the volume gradient after the step
   // (one more back-substitution, 3 columns each), added with the multiplier that restores the
   // target volume. On large supports iterate() solves the response to the gradient before the
   // step together with the step instead (kJointVolumeMinFree).

@@ -9,8 +9,8 @@
 // so order k and the boundary smoothness keep their meaning. At order 1 (ARAP's operator) and
 // in the membrane term b(R) is ARAP's spokes-and-rims right-hand side instead (face_fans.h),
 // whose edges to constrained vertices turn with the mean of both ends. It alternates a global step (one
-// back-substitution with BCM's own factorization; one more per closed component to keep its
-// volume, enclosed_volume.h) and a local step (R_i fitted to the edges of a neighbourhood
+// back-substitution with BCM's own factorization; one more for the volumes of the closed
+// components, enclosed_volume.h) and a local step (R_i fitted to the edges of a neighbourhood
 // that grows with the support, Newton steps from the last rotation, parallel); Anderson
 // acceleration combines the last iterates (anderson.h). The first rotations come from the
 // handles' rotations blended by BCM's own basis functions (harmonic guidance), so most edits
@@ -48,7 +48,9 @@ struct NonlinearOptions {
   double tolerance = 1e-4;
   // Rings of neighbours whose edges the rotation fit of a vertex also uses (0: the 1-ring only;
   // -1: automatic, growing with sqrt(free vertices): 0.15 sqrt(free) within [3, 64] on a
-  // detailed surface, 0.25 sqrt(free) within [2, 64] on a smooth multiresolution base).
+  // detailed surface, 0.25 sqrt(free) within [2, 64] on a smooth multiresolution base). The
+  // automatic settings count the free vertices of each connected part of the support apart
+  // (part_settings.h): a part edited with others gets what it gets alone.
   // Measured (docs/nonlinear.md): 8 keeps the bar's and capsule's volume within 15 % where 0
   // loses up to 45 %, and converges in 3-10x fewer iterations; the S-bent plane's base (32k
   // free) needs ~40 to keep its bumps unfolded; on the gallery's limbs a wide fit squeezes the
@@ -58,7 +60,8 @@ struct NonlinearOptions {
   // above is the wider one.
   bool smooth_rest = false;
   // Keep the enclosed volume of every closed component with free vertices (times the mean
-  // cube of the handles' scale field); open meshes are not affected.
+  // cube of the handles' scale field), each part of the support restoring what its own
+  // deformation changed; open meshes are not affected.
   bool preserve_volume = true;
   // Weight of a membrane term (ARAP's energy) added to the global step's k-harmonic one, relative
   // to the operator at the scale of a ring (0: none; -1: automatic, 0.3 (500 / free) at k = 2 and
