@@ -1,5 +1,7 @@
 #include "freeform/nonlinear/ring_smoothing.h"
 
+#include "freeform/common/error.h"
+
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -138,6 +140,7 @@ TEST(RingSmoothing, EachComponentTakesItsOwnPasses) {
   const int w = 41, small = 9;
   const auto big = grid_pattern(w), part = grid_pattern(small), both = two_grids(w, small);
   const int in_big = 20 * w + 20, in_small = 4 * small + 4;
+  EXPECT_THROW(RingSmoothing(both, std::vector<int>{3, 3, 3}), InternalError);  // two components
   for (const auto& [big_passes, small_passes] : {std::pair{9, 20}, std::pair{28, 5}, std::pair{3, 3}}) {
     const RingSmoothing joint(both, std::vector<int>{big_passes, small_passes});
     EXPECT_EQ(joint.sums(), std::max(RingSmoothing(big, big_passes).sums(), RingSmoothing(part, small_passes).sums()));

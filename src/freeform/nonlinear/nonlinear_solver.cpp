@@ -119,8 +119,7 @@ struct NonlinearSolver::Data {
   // per free row its weight mu and lagged weight (lagged mu); per face of the fans its targets;
   // on the parts with a local membrane its own rotations, fitted to the 1-ring alone (ARAP's
   // local step), the field's elsewhere; its rotated minus rest edges (P x 3).
-  bool membrane = false;
-  Eigen::VectorXd mu, lagged_mu;
+  Eigen::VectorXd mu, lagged_mu;       // empty: no membrane
   bool lagged = false;                 // some lagged_mu is not 0
   std::vector<char> local_row;         // per free row: in a part with a local membrane
   bool local_membrane = false;         // some part has one
@@ -152,7 +151,7 @@ struct NonlinearSolver::Data {
     for (int c = 0; c < volumes->count(); ++c) {
       volumes->gradient(c, x, grad);
       times_rows(outer, grad, out.middleCols(3 * c, 3));
-      if (membrane) out.middleCols(3 * c, 3) += mu.asDiagonal() * grad.topRows(p);
+      if (mu.size() > 0) out.middleCols(3 * c, 3) += mu.asDiagonal() * grad.topRows(p);
     }
   }
   // The lagged part of the membrane (add_membrane): lagged mu times its Laplacian rows at the
@@ -364,7 +363,7 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
     auto rhs = both.leftCols(3);
     times_rows(d.outer, d.b1, rhs);
     rhs -= d.ac;
-    if (d.membrane) {  // the parts with a local membrane turn it with their own rotations
+    if (d.mu.size() > 0) {  // the parts with a local membrane turn it with their own rotations
       if (d.local_membrane)
         parallel_rows(n_local, [&](int i) {
           const auto ui = static_cast<std::size_t>(i);
@@ -470,7 +469,6 @@ void NonlinearSolver::add_membrane(const SupportParts& parts, const std::vector<
   const bool symmetric = is_symmetric(app, 1e-10);
   d.sys->solver = SparseSolver(std::move(app), symmetric);
   d.sys->a_pc.swap(apc);
-  d.membrane = true;
   d.lagged = (d.lagged_mu.array() != 0.0).any();
   d.local_membrane = std::any_of(d.local_row.begin(), d.local_row.end(), [](char l) { return l != 0; });
   if (d.local_membrane) {

@@ -1,10 +1,12 @@
 #include "freeform/nonlinear/ring_smoothing.h"
 
+#include "freeform/common/error.h"
 #include "freeform/common/parallel.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
 #include <utility>
 
 namespace freeform {
@@ -63,13 +65,10 @@ std::vector<int> connected_rows(const Eigen::SparseMatrix<double, Eigen::RowMajo
 }
 
 RingSmoothing::RingSmoothing(const Eigen::SparseMatrix<double, Eigen::RowMajor>& lap, int passes)
-    : RingSmoothing(lap, std::vector<int>()) {
-  passes_.assign(degree_.size(), passes);
-  design_filters();
-}
+    : RingSmoothing(lap, std::vector<int>{passes}) {}
 
 RingSmoothing::RingSmoothing(const Eigen::SparseMatrix<double, Eigen::RowMajor>& lap, const std::vector<int>& passes)
-    : n_(static_cast<int>(lap.rows())), passes_(passes) {
+    : n_(static_cast<int>(lap.rows())) {
   offset_.assign(1, 0);
   for (int i = 0; i < n_; ++i) {
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(lap, i); it; ++it)
@@ -78,9 +77,16 @@ RingSmoothing::RingSmoothing(const Eigen::SparseMatrix<double, Eigen::RowMajor>&
   }
   int count = 0;
   component_ = connected_rows(lap, count);
+  if (passes.size() == 1)
+    passes_.assign(static_cast<std::size_t>(count), passes[0]);
+  else if (passes.size() == static_cast<std::size_t>(count))
+    passes_ = passes;
+  else
+    throw InternalError("RingSmoothing: " + std::to_string(passes.size()) + " pass counts for " +
+                        std::to_string(count) + " components");
   degree_.assign(static_cast<std::size_t>(count), 0);
   roots_.resize(static_cast<std::size_t>(count));
-  if (passes_.size() == degree_.size()) design_filters();  // else the delegating constructor's
+  design_filters();
 }
 
 int RingSmoothing::sums() const {

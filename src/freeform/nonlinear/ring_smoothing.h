@@ -22,7 +22,7 @@ class RingSmoothing {
   // The graph: the rows of lap, each adjacent to its off-diagonal columns that are rows too.
   RingSmoothing(const Eigen::SparseMatrix<double, Eigen::RowMajor>& lap, int passes);
   // Each connected component with its own passes: passes[c] for component c of connected_rows()
-  // (each is smoothed as if alone).
+  // (each is smoothed as if alone), or one count for all. Throws InternalError on another size.
   RingSmoothing(const Eigen::SparseMatrix<double, Eigen::RowMajor>& lap, const std::vector<int>& passes);
 
   // Smooths cov (one matrix per row of lap) in place with `work` (resized) as scratch. Each vertex's result
