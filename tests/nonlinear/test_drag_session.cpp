@@ -133,11 +133,13 @@ TEST(DragSession, FramesPredictWithoutWaitingForTheWorker) {
 // How good the prediction is: after settling at 45 degrees, a frame at 51 is closer to the
 // 51-degree solution than the 45-degree frame is (measured 0.070 against 0.109: linear BCM's
 // response is only a rough Jacobian of the nonlinear one), and the worker goes on from there
-// to the cold solve.
+// to the cold solve. Two converged solves are about tolerance / (1 - contraction) apart: with
+// the stretch the bent membrane accepts (docs/nonlinear.md, "What the gallery found", 48) the
+// last iterations contract slowly, and at a tolerance of 1e-7 they ended 1.1e-5 apart.
 TEST(DragSession, PredictionIsCloserThanThePreviousFrame) {
   const Mesh mesh = Mesh::from_soup(make_capsule(0.5, 4.0, 16, 24));
   Edit e = capsule_edit(mesh, Deformation::Nonlinear, false);
-  e.nonlinear.tolerance = 1e-7;
+  e.nonlinear.tolerance = 1e-8;
   const EditSolver solver(mesh, e);
   const auto pulled = [](double degrees) {
     std::vector<Eigen::Affine3d> t = bend(degrees);

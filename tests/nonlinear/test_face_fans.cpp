@@ -41,6 +41,66 @@ Fans sphere_fans() {
   return f;
 }
 
+// Every vertex of an open tube along z is a row.
+Fans tube_fans() {
+  Fans f{Mesh::from_soup(make_cylinder(12, 16, 1.0, 3.0)), {}, {}};
+  VertexData<int> local(static_cast<std::size_t>(f.mesh.n_vertices()));
+  std::vector<Vertex> global;
+  for (Vertex v : f.mesh.vertices()) {
+    local[v] = static_cast<int>(global.size());
+    global.push_back(v);
+    const Vec3 p = f.mesh.position(v);
+    f.rest.insert(f.rest.end(), {p.x(), p.y(), p.z()});
+  }
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> lap = cotan_laplacian(f.mesh);
+  f.fans.emplace(f.mesh, local, global, f.rest.data(), lap);
+  return f;
+}
+
+// A rotation field turning by `rate` radians per unit of height about `axis`.
+std::vector<Eigen::Quaterniond> turning(const Fans& f, const Vec3& axis, double rate) {
+  std::vector<Eigen::Quaterniond> q;
+  for (std::size_t i = 0; i < f.rest.size(); i += 3)
+    q.emplace_back(Eigen::AngleAxisd(rate * f.rest[i + 2], axis.normalized()));
+  return q;
+}
+
+// The field's turn along a tube: twisted about the tube's axis, every face turns more about
+// its edges than across them (below 0.5: the axial edges turn about themselves, the diagonals
+// partly); bent about an axis across the tube, every face turns more across them (the axial
+// edges wholly). Rigid and rest fields do not turn.
+TEST(FaceFans, BendFractionTellsABentTubeFromATwistedOne) {
+  const Fans f = tube_fans();
+  const std::vector<Eigen::Quaterniond> twist = turning(f, Vec3::UnitZ(), 0.6), bend = turning(f, Vec3::UnitY(), 0.6);
+  const std::vector<Eigen::Quaterniond> rigid(f.rest.size() / 3,
+                                              Eigen::Quaterniond(Eigen::AngleAxisd(2.0, Vec3(1, 2, 3).normalized())));
+  const std::vector<Eigen::Quaterniond> rest(f.rest.size() / 3, Eigen::Quaterniond::Identity());
+  double bent_sum = 0.0;
+  for (int face = 0; face < f.fans->n_faces(); ++face) {
+    EXPECT_LT(f.fans->bend_fraction(face, twist, f.rest.data()), 0.5) << face;
+    const double b = f.fans->bend_fraction(face, bend, f.rest.data());
+    EXPECT_GE(b, 0.5 - 1e-12) << face;
+    bent_sum += b;
+    EXPECT_EQ(f.fans->bend_fraction(face, rigid, f.rest.data()), 0.0) << face;
+    EXPECT_EQ(f.fans->bend_fraction(face, rest, f.rest.data()), 0.0) << face;
+  }
+  EXPECT_GT(bent_sum / f.fans->n_faces(), 0.7);
+}
+
+// where_bent raises the stretch share toward the bent one over the ramp 0.5 .. 0.8 of the bend
+// fraction, and never lowers it.
+TEST(FaceFans, WhereBentReleasesStretchOnlyWhereTheFieldBends) {
+  const OneSided held{1.0, 0.5, 0.0, 1.0};
+  EXPECT_EQ(FaceFans::where_bent(held, 0.3).stretch_share, 0.5);
+  EXPECT_EQ(FaceFans::where_bent(held, 0.5).stretch_share, 0.5);
+  EXPECT_NEAR(FaceFans::where_bent(held, 0.65).stretch_share, 0.75, 1e-12);
+  EXPECT_EQ(FaceFans::where_bent(held, 0.8).stretch_share, 1.0);
+  EXPECT_EQ(FaceFans::where_bent(held, 1.0).stretch_share, 1.0);
+  const OneSided without{1.0, 0.8, 0.0, 0.0};
+  EXPECT_EQ(FaceFans::where_bent(without, 1.0).stretch_share, 0.8);
+  EXPECT_EQ(FaceFans::where_bent(held, 1.0).compression_gain, 1.0);
+}
+
 // A rigid motion's covariance is R times sum w e e^T: R^T C symmetric and positive
 // semidefinite, and the fit returns R. A spoke gathered with a wrong sign or endpoint breaks
 // the symmetry.

@@ -20,6 +20,15 @@ constexpr double kFitFloor = 1e-3;
 // The one-sided membrane's bound (target_scale): a stretch counts up to this much.
 constexpr double kMaxStretch = 1.5;
 double fit_weight(double cot) { return std::max(cot, 0.0) + kFitFloor; }
+// where_bent's ramp over bend_fraction. On a regular strip a pure twist measures about 0.3 (its
+// edges along the strip turn about themselves, the diagonals half about themselves) and a pure
+// bend about 0.7. With the share raised in proportion to the fraction the twisted survey bar
+// was bistable (its twist spread or gathered in its middle as Anderson's history changed), from
+// 0.4 it gathered at k = 3, from 0.5 it spreads in every run (docs/nonlinear.md, "What the
+// gallery found", 48).
+constexpr double kTwisted = 0.5, kBent = 0.8;
+// A turn this small (sum of sin(angle / 2) over a face's edges) is no turn: rigid and rest fields.
+constexpr double kNoTurn = 1e-12;
 
 }  // namespace
 
@@ -104,6 +113,32 @@ double FaceFans::target_scale(double stretch, const OneSided& one_sided) {
     return 1.0 + one_sided.compression_gain * (u >= w ? u - 0.5 * w : 0.5 * u * u / w);
   }
   return 1.0 + one_sided.stretch_share * (stretch - 1.0);
+}
+
+double FaceFans::bend_fraction(int face, const std::vector<Eigen::Quaterniond>& q, const double* rest) const {
+  const std::array<int, 3>& c = corners_[static_cast<std::size_t>(face)];
+  double bend = 0.0, twist = 0.0;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const int a = c[k], b = c[(k + 1) % 3];
+    // The turn from a's rotation to b's as a vector along its axis, sin(angle / 2) long.
+    const Eigen::Quaterniond d = q[static_cast<std::size_t>(a)].conjugate() * q[static_cast<std::size_t>(b)];
+    const Vec w = (d.w() < 0.0 ? -1.0 : 1.0) * d.vec();
+    Vec r = row(rest, b) - row(rest, a);
+    const double length = r.norm();
+    if (!(length > 0.0)) continue;
+    r /= length;
+    twist += std::abs(w.dot(r));
+    bend += w.cross(r).norm();
+  }
+  return bend + twist > kNoTurn ? bend / (bend + twist) : 0.0;
+}
+
+OneSided FaceFans::where_bent(const OneSided& one_sided, double bend_fraction) {
+  OneSided out = one_sided;
+  if (out.bent_stretch_share <= out.stretch_share) return out;
+  const double t = std::clamp((bend_fraction - kTwisted) / (kBent - kTwisted), 0.0, 1.0);
+  out.stretch_share += t * (out.bent_stretch_share - out.stretch_share);
+  return out;
 }
 
 Eigen::Matrix3d FaceFans::mean(int face, const std::vector<Eigen::Matrix3d>& rot) const {

@@ -8,6 +8,7 @@
 #include "freeform/mesh/mesh.h"
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <Eigen/SparseCore>
 
 #include <array>
@@ -28,6 +29,9 @@ struct OneSided {
   double compression_gain = 0.5;
   double stretch_share = 0.5;
   double onset = 0.0;
+  // The stretch share on a face where the rotation field bends rather than twists
+  // (FaceFans::where_bent); no effect at or below stretch_share.
+  double bent_stretch_share = 0.0;
 };
 
 class FaceFans {
@@ -75,6 +79,17 @@ class FaceFans {
   // edge is pushed out beyond its rest length, a stretched one is pulled back only halfway;
   // both bounded (docs/nonlinear.md, "What the gallery found", 21 and 28).
   static double target_scale(double stretch, const OneSided& one_sided = {});
+
+  // How much of the rotation field's change over face f turns about axes across its edges
+  // (bending) rather than along them (twisting), in [0, 1]: 0 where the field does not change.
+  // q: per local row, the field's rotations (their relative turn is taken in the rest frame).
+  double bend_fraction(int face, const std::vector<Eigen::Quaterniond>& q, const double* rest) const;
+  // one_sided with its stretch share raised toward bent_stretch_share on a face that bends
+  // (from a bend_fraction of 0.5, fully from 0.8), where it bends clearly more than it twists: the
+  // outside of a bent limb may stretch, so that its crook folds less; a twisted one keeps the
+  // share, since releasing the stretch of a twist lets it gather in one place (docs/nonlinear.md,
+  // "What the gallery found", 48).
+  static OneSided where_bent(const OneSided& one_sided, double bend_fraction);
 
  private:
   struct Face {

@@ -499,7 +499,10 @@ void NonlinearSolver::arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::
     d.terms.resize(faces);
     parallel_rows(d.fans->n_faces(), [&](int f) {
       const auto uf = static_cast<std::size_t>(f);
-      d.terms[uf] = d.fans->edge_terms(f, d.fans->mean(f, rot), d.rest.data(), d.x.data(), (*targets)[uf]);
+      OneSided target = (*targets)[uf];
+      if (target.bent_stretch_share > target.stretch_share)  // the field's rotations tell bends from twists
+        target = FaceFans::where_bent(target, d.fans->bend_fraction(f, d.q, d.rest.data()));
+      d.terms[uf] = d.fans->edge_terms(f, d.fans->mean(f, rot), d.rest.data(), d.x.data(), target);
     });
     parallel_rows(n_free_, [&](int i) { out.row(i) = d.fans->rotated(i, d.terms).transpose(); });
     return;

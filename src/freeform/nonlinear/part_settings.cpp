@@ -53,6 +53,12 @@ constexpr OneSided kLocalMembrane{}, kStiffCompression{1.0, 0.8, 0.0}, kFieldMem
 constexpr double kStiffCompressionFull = 5000.0, kStiffCompressionNone = 8000.0;
 constexpr double kReleasedStretchFull = 1000.0, kReleasedStretchNone = 1500.0;
 constexpr double kLaggedMembrane = 1.0;
+// Where the field bends rather than twists (FaceFans::where_bent), a stretch is accepted wholly
+// on the supports that push compression out fully, blended out with that push: the outside of
+// a crook stretches and its inside folds less. Beyond, the slowest twists (8,000-10,000 free
+// vertices) took a fifth to a third more iterations (docs/nonlinear.md, "What the gallery
+// found", 48).
+constexpr double kBentStretchShare = 1.0;
 
 }  // namespace
 
@@ -80,7 +86,8 @@ PartSettings part_settings(int free, int order, const NonlinearOptions& options)
   const double released = share(kReleasedStretchFull, kReleasedStretchNone);
   const auto blend = [](double t, double from, double to) { return from + t * (to - from); };
   s.targets = {blend(stiff, kLocalMembrane.compression_gain, kStiffCompression.compression_gain),
-               blend(released, kLocalMembrane.stretch_share, kStiffCompression.stretch_share), 0.0};
+               blend(released, kLocalMembrane.stretch_share, kStiffCompression.stretch_share), 0.0,
+               stiff * kBentStretchShare};
   s.lagged = stiff * kLaggedMembrane;
   return s;
 }
