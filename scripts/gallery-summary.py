@@ -2,7 +2,7 @@
 """Summarizes bench_gallery's JSON: per method the totals of folded edges and collapsed faces,
 the mean over cases of the support's compressive strain and halved area, unconverged runs, the slowest run, the
 iterations, the runs over issue 37's time goal (a solve over 1 s at up to 10,000 free vertices, over 10 s above),
-and per Freeform method the cases worse than the peer
+the same totals per edit kind (bends, twists, pulls, several limbs), and per Freeform method the cases worse than the peer
 (CGAL ARAP) by more than 2 folded edges or 2 collapsed faces, worst first. --peer-from takes the
 peer's runs from an earlier gallery JSON (the same cases), so that a quick loop without the peer
 (`bench_gallery --no-peer`) is still compared with it.
@@ -12,6 +12,33 @@ import sys
 
 # Issue 37's time goal for a solve: 1 s up to this many free vertices, 10 s above.
 SMALL_FREE, SMALL_MS, LARGE_MS = 10_000, 1_000.0, 10_000.0
+# The edit kinds of bench_gallery's case names (CASE-limbN-twist137, CASE-two-limbs-bend112, ...),
+# in the order the breakdown lists them; a name with none of them is "other".
+KINDS = ("two-limbs", "bend", "twist", "pull")
+
+
+def edit_kind(case: str) -> str:
+    """The kind of edit a case name says (the first of KINDS it holds), else "other"."""
+    return next((k for k in KINDS if f"-{k}" in case or case.startswith(k)), "other")
+
+
+def print_kinds(cases: list, methods: list[str]) -> None:
+    """Per edit kind, each method's folded edges / collapsed faces summed over the kind's cases."""
+    totals: dict[str, dict[str, list[int]]] = {}
+    for case in cases:
+        kind = totals.setdefault(edit_kind(case["case"]), {})
+        for r in case["runs"]:
+            if "error" not in r:
+                t = kind.setdefault(r["method"], [0, 0, 0])
+                t[0] += 1
+                t[1] += r["folded_edges"]
+                t[2] += r["collapsed_faces"]
+    print("\nBy edit kind (cases: folded edges / collapsed faces)\n")
+    print("| kind | " + " | ".join(methods) + " |")
+    print("|---|" + "---|" * len(methods))
+    for kind in [k for k in KINDS + ("other",) if k in totals]:
+        cells = [f"{t[0]}: {t[1]} / {t[2]}" if (t := totals[kind].get(m)) else "" for m in methods]
+        print(f"| {kind} | " + " | ".join(cells) + " |")
 
 
 def take_option(args: list[str], flag: str) -> str | None:
@@ -94,6 +121,7 @@ def main() -> int:
         print(f"| {name} | {m['cases']} | {m['folds']} | {m['collapsed']} | {m['compression'] / ok:.4f} | "
               f"{m['halved'] / ok:.4f} | {worse} | {m['unconverged']} | {m['errors']} | {m['max_ms']:.0f} | "
               f"{m['iterations']} | {m['slow']} |")
+    print_kinds(cases, list(methods))
     for name, m in methods.items():
         if not m["worse"]:
             continue

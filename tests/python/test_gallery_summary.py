@@ -33,3 +33,22 @@ def test_totals_worse_cases_and_time_goal(tmp_path):
     assert ours[-2:] == ["37", "2"]  # iterations, over the time goal
     assert rows["CGAL ARAP"][-1] == "1"  # its 9 s at 5,000 free
     assert "small: 5/2, 0/0" in out
+
+
+def test_totals_by_edit_kind(tmp_path):
+    cases = [
+        {"case": "cow-limb0-twist137", "runs": [run(100, 4, 1, 5, 10.0), run(100, 6, 2, 0, 5.0, "CGAL ARAP")]},
+        {"case": "cow-limb1-twist90", "runs": [run(100, 1, 0, 5, 10.0), run(100, 0, 3, 0, 5.0, "CGAL ARAP")]},
+        # Two limbs bent: its own kind, not a bend.
+        {"case": "cow-two-limbs-bend112", "runs": [run(200, 7, 2, 5, 10.0), run(200, 9, 9, 0, 5.0, "CGAL ARAP")]},
+        {"case": "bar", "runs": [run(50, 0, 0, 5, 10.0), run(50, 1, 0, 0, 5.0, "CGAL ARAP")]},
+    ]
+    path = tmp_path / "gallery.json"
+    path.write_text(json.dumps(cases))
+    out = subprocess.run([sys.executable, str(SCRIPT), str(path)], check=True, capture_output=True, text=True).stdout
+    kinds = {line.split("|")[1].strip(): [c.strip() for c in line.split("|")[2:-1]]
+             for line in out.split("By edit kind")[1].splitlines() if line.startswith("| ") and "kind" not in line}
+    assert kinds["twist"] == ["2: 5 / 1", "2: 6 / 5"]
+    assert kinds["two-limbs"] == ["1: 7 / 2", "1: 9 / 9"]
+    assert kinds["other"] == ["1: 0 / 0", "1: 1 / 0"]
+    assert "bend" not in kinds and "pull" not in kinds
