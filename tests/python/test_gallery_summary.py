@@ -13,6 +13,19 @@ def run(free, folds, collapsed, iterations, solve_ms, method="freeform k2"):
             "iterations": iterations, "solve_ms": solve_ms, "precompute_ms": 10.0, "converged": True}
 
 
+def summarize(tmp_path, cases) -> str:
+    """The script's output for `cases` written as a gallery JSON."""
+    path = tmp_path / "gallery.json"
+    path.write_text(json.dumps(cases))
+    return subprocess.run([sys.executable, str(SCRIPT), str(path)], check=True, capture_output=True, text=True).stdout
+
+
+def table(text: str) -> dict:
+    """The rows of the first markdown table in text, by their first cell."""
+    return {line.split("|")[1].strip(): [c.strip() for c in line.split("|")[2:-1]]
+            for line in text.split("\n\n")[0].splitlines() if line.startswith("| ") and "---" not in line}
+
+
 def test_totals_worse_cases_and_time_goal(tmp_path):
     cases = [
         # 3 more folded edges than the peer: worse; 1.5 s at 5,000 free: over the goal.
@@ -22,11 +35,8 @@ def test_totals_worse_cases_and_time_goal(tmp_path):
         # 11 s at 40,000 free: over; as many collapsed faces as the peer plus 2: not worse.
         {"case": "larger", "runs": [run(40000, 0, 4, 20, 11000.0), run(40000, 0, 2, 0, 5.0, "CGAL ARAP")]},
     ]
-    path = tmp_path / "gallery.json"
-    path.write_text(json.dumps(cases))
-    out = subprocess.run([sys.executable, str(SCRIPT), str(path)], check=True, capture_output=True, text=True).stdout
-    rows = {line.split("|")[1].strip(): [c.strip() for c in line.split("|")[2:-1]]
-            for line in out.splitlines() if line.startswith("| ") and not line.startswith("| method")}
+    out = summarize(tmp_path, cases)
+    rows = table(out)
     ours = rows["freeform k2"]
     assert ours[0:3] == ["3", "5", "5"]  # cases, folded edges, collapsed faces
     assert ours[5] == "1"  # worse than the peer: "small" only
@@ -43,11 +53,7 @@ def test_totals_by_edit_kind(tmp_path):
         {"case": "cow-two-limbs-bend112", "runs": [run(200, 7, 2, 5, 10.0), run(200, 9, 9, 0, 5.0, "CGAL ARAP")]},
         {"case": "bar", "runs": [run(50, 0, 0, 5, 10.0), run(50, 1, 0, 0, 5.0, "CGAL ARAP")]},
     ]
-    path = tmp_path / "gallery.json"
-    path.write_text(json.dumps(cases))
-    out = subprocess.run([sys.executable, str(SCRIPT), str(path)], check=True, capture_output=True, text=True).stdout
-    kinds = {line.split("|")[1].strip(): [c.strip() for c in line.split("|")[2:-1]]
-             for line in out.split("By edit kind")[1].splitlines() if line.startswith("| ") and "kind" not in line}
+    kinds = table(summarize(tmp_path, cases).split("By edit kind (cases: folded edges / collapsed faces)\n\n")[1])
     assert kinds["twist"] == ["2: 5 / 1", "2: 6 / 5"]
     assert kinds["two-limbs"] == ["1: 7 / 2", "1: 9 / 9"]
     assert kinds["other"] == ["1: 0 / 0", "1: 1 / 0"]
