@@ -79,5 +79,23 @@ TEST(Rotation, DegenerateMatricesGiveARotation) {
   EXPECT_NEAR((q * Vec3(-1, 0.5, 2).normalized() - Vec3(1, 2, 3).normalized()).norm(), 0.0, 1e-8);
 }
 
+TEST(Rotation, FitConditioningIsTheHessiansSmallestShare) {
+  // Closed forms: the fit's Hessian is tr(S) I - sym(S) at its maximum S = R^T a.
+  std::mt19937 rng(5);
+  const Eigen::Quaterniond r(random_rotation(rng));
+  const Eigen::Matrix3d rm = r.toRotationMatrix();
+  const auto along = [](const Vec3& e) { return Eigen::Matrix3d(e * e.transpose()); };
+  // Even in all directions: H = 2 I, a third each.
+  EXPECT_NEAR(fit_conditioning(rm, r), 1.0 / 3.0, 1e-12);
+  // A flat, even fan (edges along x and y): H = diag(1, 1, 2), a quarter.
+  EXPECT_NEAR(fit_conditioning(rm * (along(Vec3::UnitX()) + along(Vec3::UnitY())), r), 0.25, 1e-12);
+  // A fan stretched along x, four times y: H = diag(1, 4, 5), a tenth.
+  EXPECT_NEAR(fit_conditioning(rm * (4.0 * along(Vec3::UnitX()) + along(Vec3::UnitY())), r), 0.1, 1e-12);
+  // Edges along one line: the turn about it is free.
+  EXPECT_NEAR(fit_conditioning(rm * along(Vec3(1, 2, 3)), r), 0.0, 1e-12);
+  // Not at the maximum (a turned half-way round): no conditioning.
+  EXPECT_EQ(fit_conditioning(-rm, r), 0.0);
+}
+
 }  // namespace
 }  // namespace freeform

@@ -233,7 +233,9 @@ TEST(SurveyNonlinear, OverhangingDetailIsCarriedByTheModel) {
   EXPECT_GE(r.min_sv, 0.4);  // measured 0.45 (a thin blade twisted next to the handle); decomposed 0.036
 
   // What the decomposition did with the same edit: the ear's detail re-added along the turned
-  // base normals folds dozens of edges (446 before the membrane term, 60 with it).
+  // base normals folds edges and squeezes faces (446 folded edges before the membrane term, 60
+  // with it; 3 with a minimum singular value of 0.11 since the membrane's ill-conditioned fits
+  // turn with the field, docs/nonlinear.md, "What the gallery found", 51).
   MultiresOptions options;
   options.model = nonlinear_base_model(s.edit.nonlinear);
   const MultiresSolver decomposed(mesh, edit_regions(mesh, s.edit), s.edit.settings, options);
@@ -246,7 +248,8 @@ TEST(SurveyNonlinear, OverhangingDetailIsCarriedByTheModel) {
   }
   const int torn = count_folded_edges(mesh, rest, p);
   std::printf("bunny ear, decomposed: %d folded edges, min sv %.3f\n", torn, min_singular_value(mesh, rest, p));
-  EXPECT_GT(torn, 30);
+  EXPECT_GT(torn, 0);
+  EXPECT_LT(min_singular_value(mesh, rest, p), 0.2);  // carried by the model: at least 0.4, above
 
   // The linear model still needs the decomposition to keep any detail: it is unchanged.
   s.edit.deformation = Deformation::Linear;

@@ -122,6 +122,9 @@ struct NonlinearSolver::Data {
   Eigen::VectorXd mu, lagged_mu;       // empty: no membrane
   bool lagged = false;                 // some lagged_mu is not 0
   std::vector<char> local_row;         // per free row: in a part with a local membrane
+  // Per free row: its part's field_below, and the share of the field's rotation its membrane
+  // turns with (from its 1-ring fit's conditioning, fit_rotations()).
+  std::vector<double> field_below, field_share;
   bool local_membrane = false;         // some part has one
   std::vector<OneSided> face_targets;  // per face of the fans
   std::vector<Eigen::Quaterniond> q_local;
@@ -182,6 +185,13 @@ struct NonlinearSolver::Data {
       accelerated = true;
       anderson->reset();
     }
+  }
+  // Free row i's membrane rotation where its part has a local membrane (scale times rotation
+  // minus the identity): its own 1-ring fit, turned toward the field's where that fit is
+  // ill-conditioned.
+  Eigen::Matrix3d local_rotation(std::size_t i) const {
+    const Eigen::Quaterniond r = field_share[i] > 0.0 ? q_local[i].slerp(field_share[i], q[i]) : q_local[i];
+    return scale[i] * r.toRotationMatrix() - Eigen::Matrix3d::Identity();
   }
   // Adds each component's response times the multiplier that restores its target volume.
   void restore_volumes(int p, const Eigen::MatrixXd& u) {
@@ -367,10 +377,7 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
       if (d.local_membrane)
         parallel_rows(n_local, [&](int i) {
           const auto ui = static_cast<std::size_t>(i);
-          d.rot_local[ui] =
-              i < p && d.local_row[ui] != 0
-                  ? Eigen::Matrix3d(d.scale[ui] * d.q_local[ui].toRotationMatrix() - Eigen::Matrix3d::Identity())
-                  : d.rot[ui];
+          d.rot_local[ui] = i < p && d.local_row[ui] != 0 ? d.local_rotation(ui) : d.rot[ui];
         });
       arap_rows(d.local_membrane ? d.rot_local : d.rot, d.b_mem, &d.face_targets);
       rhs += d.mu.asDiagonal() * d.b_mem;
@@ -452,6 +459,8 @@ void NonlinearSolver::add_membrane(const SupportParts& parts, const std::vector<
   d.mu.resize(p);
   d.lagged_mu.resize(p);
   d.local_row.resize(static_cast<std::size_t>(p));
+  d.field_below.resize(static_cast<std::size_t>(p));
+  d.field_share.assign(static_cast<std::size_t>(p), 0.0);
   for (int i = 0; i < p; ++i) {
     const PartSettings& s = settings[part(i)];
     d.mu(i) = mu[part(i)];
@@ -460,6 +469,7 @@ void NonlinearSolver::add_membrane(const SupportParts& parts, const std::vector<
     // ARAP itself, and k = 3 collapses a third fewer faces than with the smoothed ones, as many
     // folds (with the spokes-only ARAP of before it folded twice as many).
     d.local_row[static_cast<std::size_t>(i)] = s.local_membrane ? 1 : 0;
+    d.field_below[static_cast<std::size_t>(i)] = s.local_membrane ? s.field_below : 0.0;
   }
   for (int k = 0; k < membrane.outerSize(); ++k)  // the operator holds (1 + lagged) mu of it
     for (Eigen::SparseMatrix<double>::InnerIterator e(membrane, k); e; ++e)
@@ -533,7 +543,11 @@ void NonlinearSolver::fit_rotations() {
   if (d.local_membrane)  // the membrane's rotations: the 1-ring alone
     parallel_rows(p, [&](int i) {
       const auto ui = static_cast<std::size_t>(i);
-      if (d.local_row[ui] != 0) extract_rotation(d.cov[ui], d.q_local[ui]);
+      if (d.local_row[ui] == 0) return;
+      extract_rotation(d.cov[ui], d.q_local[ui]);
+      const double below = d.field_below[ui];
+      d.field_share[ui] =
+          below > 0.0 ? std::clamp(2.0 * (below - fit_conditioning(d.cov[ui], d.q_local[ui])) / below, 0.0, 1.0) : 0.0;
     });
   // Summing the neighbours' covariances ring by ring fits R_i to a wider patch: a smoother
   // rotation field (like SR-ARAP's smoothness term), fewer iterations, less necking. The

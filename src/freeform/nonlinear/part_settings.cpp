@@ -59,6 +59,14 @@ constexpr double kLaggedMembrane = 1.0;
 // vertices) took a fifth to a third more iterations (docs/nonlinear.md, "What the gallery
 // found", 48).
 constexpr double kBentStretchShare = 1.0;
+// Where a row's 1-ring fit is ill-conditioned (fit_conditioning below this; 1/4 on a flat, even
+// fan), its membrane turns with the smoothed field: the 1-ring rotation of a fan folded flat or
+// of a needle's corner swings from one iteration to the next, and runs cycled to the cap (a
+// small handle at the corner of a sheet, the engine block's needles). Applied with the stiff
+// push (whole up to 5,000 free vertices, none from 8,000): at 0.2, or on the subdivided
+// armadillo's arm twisted 114° (8,626 free), runs took longer (docs/nonlinear.md, "What the
+// gallery found", 51).
+constexpr double kFieldBelowConditioning = 0.15;
 
 }  // namespace
 
@@ -89,6 +97,7 @@ PartSettings part_settings(int free, int order, const NonlinearOptions& options)
                blend(released, kLocalMembrane.stretch_share, kStiffCompression.stretch_share), 0.0,
                stiff * kBentStretchShare};
   s.lagged = stiff * kLaggedMembrane;
+  s.field_below = stiff * kFieldBelowConditioning;
   return s;
 }
 

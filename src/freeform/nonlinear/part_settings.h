@@ -20,6 +20,9 @@ struct PartSettings {
   bool local_membrane = false;  // the membrane turns with its own 1-ring rotations, else with the field's
   OneSided targets;             // how the membrane's targets follow the edges' stretch (face_fans.h)
   double lagged = 0.0;          // extra membrane weight held by the operator, given back on the right-hand side
+  // With local_membrane: a row whose own 1-ring fit is conditioned below this (fit_conditioning,
+  // rotation.h) turns its membrane edges with the smoothed field instead, wholly at half of it.
+  double field_below = 0.0;
 };
 
 // The settings of a part of `free` free vertices at order `order`; options' non-negative

@@ -1,5 +1,8 @@
 #include "freeform/nonlinear/rotation.h"
 
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
 #include <cmath>
 
 namespace freeform {
@@ -60,6 +63,16 @@ int extract_rotation(const Eigen::Matrix3d& a, Eigen::Quaterniond& q, int max_it
     if (newton && angle < kQuadraticExit) return it + 1;
   }
   return max_iterations;
+}
+
+double fit_conditioning(const Eigen::Matrix3d& a, const Eigen::Quaterniond& q) {
+  const Eigen::Matrix3d s = q.toRotationMatrix().transpose() * a;
+  const Eigen::Matrix3d h = s.trace() * Eigen::Matrix3d::Identity() - 0.5 * (s + s.transpose());
+  const double trace = h.trace();
+  if (!(trace > 0.0)) return 0.0;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+  eigen.computeDirect(h, Eigen::EigenvaluesOnly);  // closed form, ascending
+  return std::clamp(eigen.eigenvalues()(0) / trace, 0.0, 1.0 / 3.0);
 }
 
 }  // namespace freeform

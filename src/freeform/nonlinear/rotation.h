@@ -21,4 +21,11 @@ Eigen::Quaterniond rotation_from_vector(const Vec3& w);
 // Returns the iterations taken (max_iterations: not converged to 1e-13 rad).
 int extract_rotation(const Eigen::Matrix3d& a, Eigen::Quaterniond& q, int max_iterations = 20);
 
+// How well a determines the rotation q fitted to it: the smallest eigenvalue of the fit's
+// Hessian (tr(S) I - sym(S), S = R^T a) over its trace, in [0, 1/3]. 1/3 for edges spanning all
+// three directions evenly, 1/4 for a flat, even fan (the turn about its normal is held by both
+// in-plane directions), 0 for edges along one line (the turn about it is free); 0 where the
+// trace is not positive (q is not a maximum).
+double fit_conditioning(const Eigen::Matrix3d& a, const Eigen::Quaterniond& q);
+
 }  // namespace freeform
