@@ -63,9 +63,9 @@ constexpr double kBentStretchShare = 1.0;
 // fan), its membrane turns with the smoothed field: the 1-ring rotation of a fan folded flat or
 // of a needle's corner swings from one iteration to the next, and runs cycled to the cap (a
 // small handle at the corner of a sheet, the engine block's needles). Applied with the stiff
-// push (whole up to 5,000 free vertices, none from 8,000): at 0.2, or on the subdivided
-// armadillo's arm twisted 114° (8,626 free), runs took longer (docs/nonlinear.md, "What the
-// gallery found", 51).
+// push (whole up to 5,000 free vertices, none from 8,000): at 0.2 more faces collapsed on meshes
+// the gallery does not use, and on larger supports the slowest twists took far more iterations
+// (docs/nonlinear.md, "What the gallery found", 51).
 constexpr double kFieldBelowConditioning = 0.15;
 
 }  // namespace
