@@ -469,7 +469,7 @@ void NonlinearSolver::add_membrane(const SupportParts& parts, const std::vector<
     // ARAP itself, and k = 3 collapses a third fewer faces than with the smoothed ones, as many
     // folds (with the spokes-only ARAP of before it folded twice as many).
     d.local_row[static_cast<std::size_t>(i)] = s.local_membrane ? 1 : 0;
-    d.field_below[static_cast<std::size_t>(i)] = s.local_membrane ? s.field_below : 0.0;
+    d.field_below[static_cast<std::size_t>(i)] = s.field_below;  // 0 without a local membrane
   }
   for (int k = 0; k < membrane.outerSize(); ++k)  // the operator holds (1 + lagged) mu of it
     for (Eigen::SparseMatrix<double>::InnerIterator e(membrane, k); e; ++e)
