@@ -169,6 +169,7 @@ void EnclosedVolumes::add_part(const Mesh& mesh, const VertexData<Vec3>& rest, c
   std::frexp(extent > 0.0 && std::isfinite(extent) ? extent : 1.0, &e);
   part.scale = std::ldexp(1.0, e);
   part.inv_scale = std::ldexp(1.0, -e);
+  scale_extras(part);
   for (Vertex v : part.extra) extra_index[v] = -1;
 }
 
@@ -185,13 +186,27 @@ void EnclosedVolumes::index_free_corners(Part& part) const {
     for (int r : f)
       if (r >= 0 && r < n_free_) ++part.corner_offset[slot(r) + 1];
   for (std::size_t i = 0; i < part.free_rows.size(); ++i) part.corner_offset[i + 1] += part.corner_offset[i];
-  part.corners.resize(static_cast<std::size_t>(part.corner_offset.back()));
+  part.opposite.resize(2 * static_cast<std::size_t>(part.corner_offset.back()));
   std::vector<int> next(part.corner_offset.begin(), part.corner_offset.end() - 1);
-  for (std::size_t f = 0; f < part.moving.size(); ++f)  // in face order: the serial sum's order
-    for (int k = 0; k < 3; ++k) {
-      const int r = part.moving[f][static_cast<std::size_t>(k)];
-      if (r >= 0 && r < n_free_) part.corners[static_cast<std::size_t>(next[slot(r)]++)] = 4 * static_cast<int>(f) + k;
+  for (const auto& f : part.moving)  // in face order: the serial sum's order
+    for (std::size_t k = 0; k < 3; ++k) {
+      const int r = f[k];
+      if (r < 0 || r >= n_free_) continue;
+      const auto at = 2 * static_cast<std::size_t>(next[slot(r)]++);
+      part.opposite[at] = f[(k + 1) % 3];
+      part.opposite[at + 1] = f[(k + 2) % 3];
     }
+}
+
+void EnclosedVolumes::scale_extras(Part& part) {
+  part.extra_scaled.resize(part.extra_now.size());
+  for (std::size_t i = 0; i < part.extra_now.size(); ++i)
+    part.extra_scaled[i] = (part.extra_now[i] - part.centre) * part.inv_scale;
+}
+
+void EnclosedVolumes::scale_corners(const Part& part, const RowMatrixX3d& x) const {
+  scaled_.resize(static_cast<std::size_t>(x.rows()));
+  for (int r : part.local_rows) scaled_[static_cast<std::size_t>(r)] = corner(part, r, x);
 }
 
 Vec3 EnclosedVolumes::corner(const Part& part, int index, const RowMatrixX3d& x) const {
@@ -211,6 +226,7 @@ void EnclosedVolumes::start(std::span<const Eigen::Affine3d> transforms, std::sp
       const double s = m >= 0 ? handle_scale[static_cast<std::size_t>(m)] : 1.0;
       cubes += s * s * s;
     }
+    scale_extras(part);
     for (int r : part.local_rows) cubes += std::pow(scale[static_cast<std::size_t>(r)], 3);
     part.fixed_sum = fixed_sum(part, x);
     // The mean cube first: it is exactly 1 when no handle is scaled, so the target is the rest
@@ -243,18 +259,14 @@ void EnclosedVolumes::gradient(int c, const RowMatrixX3d& x, Eigen::Ref<Eigen::M
   // (d/dy of V / scale^3, y = x / scale), in face order.
   const Part& part = parts_[static_cast<std::size_t>(c)];
   g.setZero();
+  scale_corners(part, x);
   const auto rows = static_cast<std::ptrdiff_t>(part.free_rows.size());
   parallel_for(rows, 1024, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
     for (auto i = static_cast<std::size_t>(lo); i < static_cast<std::size_t>(hi); ++i) {
       Vec3 sum = Vec3::Zero();
-      for (int e = part.corner_offset[i]; e < part.corner_offset[i + 1]; ++e) {
-        const int code = part.corners[static_cast<std::size_t>(e)];
-        const auto& f = part.moving[static_cast<std::size_t>(code / 4)];
-        const int k = code % 4;
-        sum += corner(part, f[static_cast<std::size_t>((k + 1) % 3)], x)
-                   .cross(corner(part, f[static_cast<std::size_t>((k + 2) % 3)], x)) /
-               6.0;
-      }
+      for (auto e = 2 * static_cast<std::size_t>(part.corner_offset[i]);
+           e < 2 * static_cast<std::size_t>(part.corner_offset[i + 1]); e += 2)
+        sum += scaled(part, part.opposite[e]).cross(scaled(part, part.opposite[e + 1])) / 6.0;
       g.row(part.free_rows[i]) = sum.transpose();
     }
   });
@@ -266,12 +278,16 @@ double EnclosedVolumes::multiplier(int c, const RowMatrixX3d& x, const Eigen::Ma
   // for dozens of iterations of a 35k-vertex twist on the bunny, then jumped to a far root
   // that moved vertices by 1.7 times the support's extent.)
   const Part& part = parts_[static_cast<std::size_t>(c)];
-  auto is_free = [&](int index) { return index >= 0 && index < n_free_; };
-  auto du = [&](int index) { return is_free(index) ? Vec3(u.row(index).transpose() * part.inv_scale) : Vec3::Zero(); };
+  scale_corners(part, x);
+  scaled_u_.resize(static_cast<std::size_t>(u.rows()));
+  for (int r : part.free_rows) scaled_u_[static_cast<std::size_t>(r)] = u.row(r).transpose() * part.inv_scale;
+  auto du = [&](int index) {
+    return index >= 0 && index < n_free_ ? scaled_u_[static_cast<std::size_t>(index)] : Vec3::Zero();
+  };
   // k[0..3], the area of the moving faces, the largest |u|^2 of a corner.
   const auto term = [&](std::size_t i, std::array<double, 6>& sum) {
     const auto& f = part.moving[i];
-    const Vec3 a = corner(part, f[0], x), b = corner(part, f[1], x), d = corner(part, f[2], x);
+    const Vec3 &a = scaled(part, f[0]), &b = scaled(part, f[1]), &d = scaled(part, f[2]);
     const Vec3 ua = du(f[0]), ub = du(f[1]), ud = du(f[2]);
     sum[0] += a.dot(b.cross(d));
     sum[1] += ua.dot(b.cross(d)) + a.dot(ub.cross(d)) + a.dot(b.cross(ud));

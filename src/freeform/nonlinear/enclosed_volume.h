@@ -63,12 +63,14 @@ class EnclosedVolumes {
     // corner; the others' volume is summed once per frame (fixed_sum, 6 times their volume).
     std::vector<std::array<int, 3>> moving, fixed;
     double fixed_sum = 0;
-    // Per free row of the component (free_rows), its corners among the moving faces
-    // (4 * face + corner), from corner_offset[i] to corner_offset[i + 1]: the gradient's gather.
-    std::vector<int> free_rows, corner_offset, corners;
+    // Per free row of the component (free_rows), the other two corners of each of its moving
+    // faces, in the order of the face's cross product (2 per face, in face order), from
+    // 2 * corner_offset[i] to 2 * corner_offset[i + 1]: the gradient's gather.
+    std::vector<int> free_rows, corner_offset, opposite;
     std::vector<Vertex> extra;     // component vertices without a local row
     std::vector<int> extra_owner;  // their movable handle, or -1
     std::vector<Vec3> extra_rest, extra_now;
+    std::vector<Vec3> extra_scaled;      // extra_now centred and scaled as corner() does
     std::vector<int> local_rows;         // the component's local rows
     Vec3 centre = Vec3::Zero();          // of the rest, for accuracy far from the origin
     double scale = 1, inv_scale = 1;     // a power of two near the rest extent, and its inverse
@@ -76,6 +78,9 @@ class EnclosedVolumes {
   };
   std::vector<Part> parts_;
   int n_free_ = 0;
+  // Workspace of gradient() and multiplier() (per local row: scale_corners(), and u scaled the
+  // same way): one caller at a time, like the solver that owns this.
+  mutable std::vector<Vec3> scaled_, scaled_u_;
 
   struct Roles;
   void add_part(const Mesh& mesh, const VertexData<Vec3>& rest, const VertexData<int>& local, const Roles& roles,
@@ -83,6 +88,15 @@ class EnclosedVolumes {
                 VertexData<int>& extra_index);
 
   Vec3 corner(const Part& part, int index, const RowMatrixX3d& x) const;
+  // The part's local rows at x centred and scaled into scaled_ (corner()'s bits; the extra
+  // vertices' are extra_scaled, set by scale_extras() with extra_now): a face sum then scales
+  // each vertex once, not once per face.
+  void scale_corners(const Part& part, const RowMatrixX3d& x) const;
+  const Vec3& scaled(const Part& part, int index) const {
+    return index >= 0 ? scaled_[static_cast<std::size_t>(index)]
+                      : part.extra_scaled[static_cast<std::size_t>(-1 - index)];
+  }
+  static void scale_extras(Part& part);
   void index_free_corners(Part& part) const;
   double fixed_sum(const Part& part, const RowMatrixX3d& x) const;
   double moving_sum(const Part& part, const RowMatrixX3d& x) const;
