@@ -147,12 +147,13 @@ TEST(GallerySubset, AssimpFilesAgainstArap) {
     EXPECT_LE(run.quality.folds, peer.folds == 0 ? 0 : peer.folds + 8) << s.name << " k = " << k;
     EXPECT_LE(run.quality.collapsed, peer.collapsed == 0 ? 0 : peer.collapsed + 3) << s.name << " k = " << k;
   });
-  // In total no more folded edges than ARAP (+ 2) and no more collapsed faces: measured 101 / 87
-  // (k = 2) and 104 / 83 (k = 3) against ARAP's 111 / 133 (105 / 98 and 108 / 97 before the
-  // stiffer compression of small supports, docs/nonlinear.md, "What the gallery found", 35).
+  // In total no more folded edges than ARAP (+ 2) and at most half its collapsed faces: measured
+  // 90 / 63 (k = 2) and 92 / 59 (k = 3) against ARAP's 111 / 133; 96 / 76 and 89 / 70 with the
+  // membrane of the constrained ring turned with its constraints' rotation, as before
+  // docs/nonlinear.md, "What the gallery found", 53.
   for (int k : {0, 1}) {
     EXPECT_LE(t.folds[k], t.peer_folds + 2) << "k = " << k + 2;
-    EXPECT_LE(t.collapsed[k], t.peer_collapsed) << "k = " << k + 2;
+    EXPECT_LE(2 * t.collapsed[k], t.peer_collapsed) << "k = " << k + 2;
   }
 }
 

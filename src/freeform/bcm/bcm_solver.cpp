@@ -2,8 +2,8 @@
 // (docs/bcm.md).
 #include "freeform/bcm/bcm_solver.h"
 
-
 #include "freeform/bcm/bcm_system.h"
+#include "freeform/bcm/boundary_band.h"
 #include "freeform/bcm/refinement.h"
 
 #include "freeform/common/cpu_features.h"
@@ -218,8 +218,12 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   if (n_mov > kStackHandles) scratch_.resize(static_cast<std::size_t>(16 * n_mov));
   if (keep_system) {
     // swap: Eigen 3.4's SparseMatrix has no move constructor, std::move would copy.
-    system_ = std::make_unique<BcmFactoredSystem>(
-        BcmFactoredSystem{std::move(sys.constrained), {}, {}, {}, std::move(*solver), settings.order});
+    const std::vector<double> c = smoothness_per_vertex(regions, settings);
+    std::vector<double> smoothness(sys.constrained.size());
+    for (std::size_t j = 0; j < smoothness.size(); ++j)
+      smoothness[j] = c[static_cast<std::size_t>(sys.constrained[j].idx())];
+    system_ = std::make_unique<BcmFactoredSystem>(BcmFactoredSystem{
+        std::move(sys.constrained), {}, {}, {}, std::move(*solver), settings.order, std::move(smoothness)});
     system_->a_pc.swap(sys.a_pc);
     system_->lap.swap(sys.lap);
     system_->outer.swap(sys.outer);

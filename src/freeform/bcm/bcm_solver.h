@@ -86,6 +86,7 @@ struct BcmFactoredSystem {
   Eigen::SparseMatrix<double> outer;
   SparseSolver solver;              // factors A_pp (it holds A_pp's lower triangle)
   int order = 0;                    // k: S_k's order
+  std::vector<double> smoothness;   // per constrained vertex: its boundary smoothness c (boundary_band.h)
 };
 
 // Order of the free rows (free_vertices(), constant_part(), basis()). BreadthFirst keeps mesh

@@ -121,9 +121,10 @@ struct NonlinearSolver::Data {
   // local step), the field's elsewhere; its rotated minus rest edges (P x 3).
   Eigen::VectorXd mu, lagged_mu;       // empty: no membrane
   bool lagged = false;                 // some lagged_mu is not 0
-  std::vector<char> local_row;         // per free row: in a part with a local membrane
-  // Per free row: its part's field_below, and the share of the field's rotation its membrane
+  // Per row of the fit (the free rows and the constrained (k-1)-ring): in a part with a local
+  // membrane; its part's field_below, and the share of the field's rotation its membrane
   // turns with (from its 1-ring fit's conditioning, fit_rotations()).
+  std::vector<char> local_row;
   std::vector<double> field_below, field_share;
   bool local_membrane = false;         // some part has one
   std::vector<OneSided> face_targets;  // per face of the fans
@@ -186,9 +187,9 @@ struct NonlinearSolver::Data {
       anderson->reset();
     }
   }
-  // Free row i's membrane rotation where its part has a local membrane (scale times rotation
-  // minus the identity): its own 1-ring fit, turned toward the field's where that fit is
-  // ill-conditioned.
+  // Row i's membrane rotation where its part has a local membrane (scale times rotation minus
+  // the identity): its own 1-ring fit, turned toward the field's (a constrained row's: its
+  // constraint's) where that fit is ill-conditioned.
   Eigen::Matrix3d local_rotation(std::size_t i) const {
     const Eigen::Quaterniond r = field_share[i] > 0.0 ? q_local[i].slerp(field_share[i], q[i]) : q_local[i];
     return scale[i] * r.toRotationMatrix() - Eigen::Matrix3d::Identity();
@@ -328,7 +329,7 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
     d.scale[ui] = std::exp(ls);
   });
   if (d.local_membrane && !warm)
-    for (int i = 0; i < p; ++i) d.q_local[static_cast<std::size_t>(i)] = d.q[static_cast<std::size_t>(i)];
+    for (int i = 0; i < d.n_inner; ++i) d.q_local[static_cast<std::size_t>(i)] = d.q[static_cast<std::size_t>(i)];
   if (!warm) d.x.topRows(p) = d.rest.topRows(p);
   if (linear && linear->rows() != p) throw InternalError("NonlinearSolver::start: linear rows do not match");
   if (warm && linear && d.has_linear) d.x.topRows(p) += *linear - d.linear;
@@ -377,7 +378,7 @@ const NonlinearState& NonlinearSolver::iterate(int max_iterations, double budget
       if (d.local_membrane)
         parallel_rows(n_local, [&](int i) {
           const auto ui = static_cast<std::size_t>(i);
-          d.rot_local[ui] = i < p && d.local_row[ui] != 0 ? d.local_rotation(ui) : d.rot[ui];
+          d.rot_local[ui] = i < n_inner && d.local_row[ui] != 0 ? d.local_rotation(ui) : d.rot[ui];
         });
       arap_rows(d.local_membrane ? d.rot_local : d.rot, d.b_mem, &d.face_targets);
       rhs += d.mu.asDiagonal() * d.b_mem;
@@ -458,18 +459,30 @@ void NonlinearSolver::add_membrane(const SupportParts& parts, const std::vector<
   }
   d.mu.resize(p);
   d.lagged_mu.resize(p);
-  d.local_row.resize(static_cast<std::size_t>(p));
-  d.field_below.resize(static_cast<std::size_t>(p));
-  d.field_share.assign(static_cast<std::size_t>(p), 0.0);
+  const auto rows = static_cast<std::size_t>(d.n_inner);
+  d.local_row.resize(rows);
+  d.field_below.resize(rows);
+  d.field_share.assign(rows, 0.0);
   for (int i = 0; i < p; ++i) {
-    const PartSettings& s = settings[part(i)];
     d.mu(i) = mu[part(i)];
-    d.lagged_mu(i) = s.lagged * mu[part(i)];
-    // Measured on the gallery (docs/nonlinear.md, 12): with the 1-ring rotations the membrane is
-    // ARAP itself, and k = 3 collapses a third fewer faces than with the smoothed ones, as many
-    // folds (with the spokes-only ARAP of before it folded twice as many).
-    d.local_row[static_cast<std::size_t>(i)] = s.local_membrane ? 1 : 0;
-    d.field_below[static_cast<std::size_t>(i)] = s.field_below;  // 0 without a local membrane
+    d.lagged_mu(i) = settings[part(i)].lagged * mu[part(i)];
+  }
+  // Measured on the gallery (docs/nonlinear.md, 12): with the 1-ring rotations the membrane is
+  // ARAP itself, and k = 3 collapses a third fewer faces than with the smoothed ones, as many
+  // folds (with the spokes-only ARAP of before it folded twice as many). As in ARAP, the
+  // constrained (k-1)-ring fits its own too where its boundary is at least C1: turned with the
+  // constraint's rotation, the faces next to it squeezed more. At a crease (C0) the bending
+  // term does not hold them to the constraint's tangent plane and the membrane still does:
+  // fitted there they folded (docs/nonlinear.md, "What the gallery found", 53).
+  for (std::size_t i = 0; i < rows; ++i) {
+    const PartSettings& s = settings[part(static_cast<Eigen::Index>(i))];
+    d.local_row[i] = s.local_membrane ? 1 : 0;
+    if (i < static_cast<std::size_t>(p)) {
+      d.field_below[i] = s.field_below;  // 0 without a local membrane
+    } else {
+      d.field_below[i] = 0.0;
+      d.field_share[i] = 1.0 - std::clamp(d.sys->smoothness[i - static_cast<std::size_t>(p)], 0.0, 1.0);
+    }
   }
   for (int k = 0; k < membrane.outerSize(); ++k)  // the operator holds (1 + lagged) mu of it
     for (Eigen::SparseMatrix<double>::InnerIterator e(membrane, k); e; ++e)
@@ -482,7 +495,7 @@ void NonlinearSolver::add_membrane(const SupportParts& parts, const std::vector<
   d.lagged = (d.lagged_mu.array() != 0.0).any();
   d.local_membrane = std::any_of(d.local_row.begin(), d.local_row.end(), [](char l) { return l != 0; });
   if (d.local_membrane) {
-    d.q_local.assign(static_cast<std::size_t>(p), Eigen::Quaterniond::Identity());
+    d.q_local.assign(rows, Eigen::Quaterniond::Identity());
     d.rot_local.resize(static_cast<std::size_t>(p) + d.owner.size());  // the constrained ones: their own
   }
   d.face_targets.resize(static_cast<std::size_t>(d.fans->n_faces()));
@@ -541,13 +554,15 @@ void NonlinearSolver::fit_rotations() {
   const double* x = d.x.data();
   parallel_rows(d.n_inner, [&](int i) { d.cov[static_cast<std::size_t>(i)] = d.fans->covariance(i, x); });
   if (d.local_membrane)  // the membrane's rotations: the 1-ring alone
-    parallel_rows(p, [&](int i) {
+    parallel_rows(d.n_inner, [&](int i) {
       const auto ui = static_cast<std::size_t>(i);
       if (d.local_row[ui] == 0) return;
       extract_rotation(d.cov[ui], d.q_local[ui]);
       const double below = d.field_below[ui];
-      d.field_share[ui] =
-          below > 0.0 ? std::clamp(2.0 * (below - fit_conditioning(d.cov[ui], d.q_local[ui])) / below, 0.0, 1.0) : 0.0;
+      if (i < p)
+        d.field_share[ui] =
+            below > 0.0 ? std::clamp(2.0 * (below - fit_conditioning(d.cov[ui], d.q_local[ui])) / below, 0.0, 1.0)
+                        : 0.0;
     });
   // Summing the neighbours' covariances ring by ring fits R_i to a wider patch: a smoother
   // rotation field (like SR-ARAP's smoothness term), fewer iterations, less necking. The
