@@ -558,11 +558,9 @@ void NonlinearSolver::fit_rotations() {
       const auto ui = static_cast<std::size_t>(i);
       if (d.local_row[ui] == 0) return;
       extract_rotation(d.cov[ui], d.q_local[ui]);
-      const double below = d.field_below[ui];
-      if (i < p)
-        d.field_share[ui] =
-            below > 0.0 ? std::clamp(2.0 * (below - fit_conditioning(d.cov[ui], d.q_local[ui])) / below, 0.0, 1.0)
-                        : 0.0;
+      // Without a threshold (and on the constrained rows) the share stays as add_membrane set it.
+      if (const double below = d.field_below[ui]; below > 0.0)
+        d.field_share[ui] = std::clamp(2.0 * (below - fit_conditioning(d.cov[ui], d.q_local[ui])) / below, 0.0, 1.0);
     });
   // Summing the neighbours' covariances ring by ring fits R_i to a wider patch: a smoother
   // rotation field (like SR-ARAP's smoothness term), fewer iterations, less necking. The
