@@ -36,20 +36,22 @@ constexpr int kLocalMembraneMaxFree = 10000;
 // How the membrane's targets follow the edges' stretch (face_fans.h). With its own 1-ring
 // rotations: compressed edges pushed out, stretched ones pulled back halfway (chosen on the
 // gallery, docs/nonlinear.md, "What the gallery found", 21). Up to kStiffCompressionFull free
-// vertices pushed out by their whole compression: limbs keep their cross-sections and crooks
-// fold less (items 35 and 40; it converges on supports this large since sliding iterations are
-// moved on, drift.h; not beyond: the subdivided armadillo's arm twist folded), blended into the
-// former up to kStiffCompressionNone. Stretched edges are pulled back by only a fifth of their
+// vertices pushed out by 1.25 times their compression: limbs keep their cross-sections and
+// crooks fold less (items 35, 40 and 54; it converges on supports this large since sliding
+// iterations are moved on, drift.h; not beyond: the subdivided armadillo's arm twist folded;
+// 1.5 times folded a spider's leg where ARAP folds nothing), blended into the former up to
+// kStiffCompressionNone. Stretched edges are pulled back by only a fifth of their
 // stretch up to kReleasedStretchFull, blended into half by kReleasedStretchNone: released on
 // larger supports, the survey's twisted bar (1,640 free) buckled in its middle (item 40).
 // Fed back through the right-hand side alone, that push flips a mode's sign every iteration, so
 // there the factored operator holds kLaggedMembrane more of the membrane's weight and the
 // right-hand side gives it back at the current iterate: the fixed points stay, and for a
-// compressed edge the feedback cancels. With the smoothed field (larger supports still) a stretch
-// is resisted fully and the push's onset is smooth: releasing stretch, or a kink at the rest
-// length, made the editor benchmark's bunny twist settle in 40-300 iterations instead of 25-28;
-// without the push the subdivided armadillo's knee crumpled at C0 (item 28).
-constexpr OneSided kLocalMembrane{}, kStiffCompression{1.0, 0.8, 0.0}, kFieldMembrane{0.5, 0.0, 0.1};
+// compressed edge the feedback falls to a fifth (as large a lag took more iterations, item 54).
+// With the smoothed field (larger supports still) a stretch is resisted fully and the push's
+// onset is smooth: releasing stretch, or a kink at the rest length, made the editor benchmark's
+// bunny twist settle in 40-300 iterations instead of 25-28; without the push the subdivided
+// armadillo's knee crumpled at C0 (item 28).
+constexpr OneSided kLocalMembrane{}, kStiffCompression{1.25, 0.8, 0.0}, kFieldMembrane{0.5, 0.0, 0.1};
 constexpr double kStiffCompressionFull = 5000.0, kStiffCompressionNone = 8000.0;
 constexpr double kReleasedStretchFull = 1000.0, kReleasedStretchNone = 1500.0;
 constexpr double kLaggedMembrane = 1.0;
