@@ -275,12 +275,12 @@ TEST(GallerySubset, PullsAtOrder3StayClean) {
 
 // Homer's limbs (drawn with seed 37 for this mesh alone; supports of a few hundred free
 // vertices, where the membrane weighs most): bends and twists keep their cross-sections
-// (docs/nonlinear.md, "What the gallery found", 35 and 51): at most four fifths of ARAP's
-// folded edges and no more collapsed faces than it (issue 37's bound). Measured 2026-12-06:
-// folded edges 94 / 114 (k = 2 / 3) against ARAP's 160, collapsed faces 105 / 142 against 152.
-// Before the membrane turned with the field where its 1-ring fit is ill-conditioned 146 / 159
-// and 129 / 114, which fails the folds; before the stiffer compression of small supports 146 /
-// 172 and 153 / 157, which fails both.
+// (docs/nonlinear.md, "What the gallery found", 35, 51 and 54): at most four fifths of ARAP's
+// folded edges and of its collapsed faces. Measured 2026-12-07: folded edges 99 / 114 (k = 2 /
+// 3) against ARAP's 160, collapsed faces 81 / 110 against 152; with the push of item 54 at 1
+// instead of 1.25, 106 / 113 and 85 / 125, which fails the collapse at k = 3. Before the
+// membrane turned with the field where its 1-ring fit is ill-conditioned 146 / 159 and 129 /
+// 114; before the stiffer compression of small supports 146 / 172 and 153 / 157.
 TEST(GallerySubset, SmallLimbsKeepTheirCrossSections) {
   const std::vector<Shape> cases = mesh_limb_cases("homer", 3, 0.2);
   if (cases.empty()) GTEST_SKIP() << "libcgal-demo meshes not found";
@@ -288,7 +288,7 @@ TEST(GallerySubset, SmallLimbsKeepTheirCrossSections) {
   const Totals t = against_arap(cases, [](const Shape&, int, const NonlinearRun&, const Quality&) {});
   for (int k : {0, 1}) {
     EXPECT_LE(5 * t.folds[k], 4 * t.peer_folds) << "k = " << k + 2;
-    EXPECT_LE(t.collapsed[k], t.peer_collapsed) << "k = " << k + 2;
+    EXPECT_LE(5 * t.collapsed[k], 4 * t.peer_collapsed) << "k = " << k + 2;
   }
 }
 
