@@ -4,10 +4,13 @@ the mean over cases of the support's compressive strain and halved area, unconve
 iterations, the runs over issue 37's time goal (a solve over 1 s at up to 10,000 free vertices, over 10 s above),
 the same totals per edit kind (bends, twists, pulls, several limbs), and per Freeform method the cases worse than the peer
 (CGAL ARAP) by more than 2 folded edges or 2 collapsed faces, worst first. --peer-from takes the
-peer's runs from an earlier gallery JSON (the same cases), so that a quick loop without the peer
-(`bench_gallery --no-peer`) is still compared with it.
-    scripts/gallery-summary.py gallery.json [--peer "CGAL ARAP"] [--peer-from peer.json]"""
+peer's runs from an earlier gallery JSON (the same cases: each case's vertex, support and handle
+counts must match), so that a quick loop without the peer (`bench_gallery --no-peer`) is still
+compared with it; data/gallery-cgal-arap.json stores them for the gallery's cases. --save-peer
+writes the peer's runs of gallery.json alone to a file for --peer-from.
+    scripts/gallery-summary.py gallery.json [--peer "CGAL ARAP"] [--peer-from peer.json] [--save-peer out.json]"""
 import json
+import os
 import sys
 
 # Issue 37's time goal for a solve: 1 s up to this many free vertices, 10 s above.
@@ -62,6 +65,40 @@ def read_json(path: str) -> list:
             raise ValueError(f"{path}: not gallery JSON ({e})") from e
 
 
+# What makes two gallery cases of the same name the same edit, as far as the JSON tells.
+CASE_KEYS = ("vertices", "support", "handles")
+
+
+def take_peer_runs(cases: list, earlier: list, peer: str, peer_from: str) -> str | None:
+    """Replaces each case's peer runs by those of the same case in `earlier`; the error, if any."""
+    earlier_of = {c["case"]: c for c in earlier}
+    for case in cases:
+        old = earlier_of.get(case["case"])
+        runs = [r for r in old["runs"] if r["method"] == peer] if old else []
+        if old is None or not runs:
+            return f"{peer_from} has no {peer} run of case {case['case']}"
+        for key in CASE_KEYS:
+            if key in old and key in case and old[key] != case[key]:
+                return (f"{peer_from}: case {case['case']} has {key} {old[key]} there and {case[key]} here: "
+                        "not the same edit (run the peer again)")
+        case["runs"] = [r for r in case["runs"] if r["method"] != peer] + runs
+    return None
+
+
+def save_peer_runs(cases: list, peer: str, path: str) -> None:
+    """Writes the cases with their peer runs alone (atomically): a file for --peer-from."""
+    kept = [{**{k: v for k, v in c.items() if k != "runs"}, "runs": [r for r in c["runs"] if r["method"] == peer]}
+            for c in cases]
+    missing = [c["case"] for c in kept if not c["runs"]]
+    if missing:
+        raise ValueError(f"no {peer} run of case {missing[0]} to save")
+    tmp = path + ".tmp"
+    with open(tmp, "w", encoding="utf-8") as f:
+        json.dump(kept, f, indent=0, sort_keys=True)
+        f.write("\n")
+    os.replace(tmp, path)
+
+
 def main() -> int:
     args = sys.argv[1:]
     if not args:
@@ -69,6 +106,7 @@ def main() -> int:
         return 2
     peer = take_option(args, "--peer") or "CGAL ARAP"
     peer_from = take_option(args, "--peer-from")
+    save_peer = take_option(args, "--save-peer")
     if len(args) != 1:
         print(__doc__, file=sys.stderr)
         return 2
@@ -78,13 +116,15 @@ def main() -> int:
     except (OSError, ValueError) as e:
         print(f"gallery-summary: {e}", file=sys.stderr)
         return 1
-    if peer_from:
-        runs_of = {c["case"]: [r for r in c["runs"] if r["method"] == peer] for c in earlier}
-        for case in cases:
-            if not runs_of.get(case["case"]):
-                print(f"gallery-summary: {peer_from} has no {peer} run of case {case['case']}", file=sys.stderr)
-                return 1
-            case["runs"] = [r for r in case["runs"] if r["method"] != peer] + runs_of[case["case"]]
+    if peer_from and (error := take_peer_runs(cases, earlier, peer, peer_from)):
+        print(f"gallery-summary: {error}", file=sys.stderr)
+        return 1
+    if save_peer:
+        try:
+            save_peer_runs(cases, peer, save_peer)
+        except (OSError, ValueError) as e:
+            print(f"gallery-summary: {save_peer}: {e}", file=sys.stderr)
+            return 1
     methods: dict[str, dict] = {}
     for case in cases:
         runs = {r["method"]: r for r in case["runs"]}

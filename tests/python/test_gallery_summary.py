@@ -58,3 +58,30 @@ def test_totals_by_edit_kind(tmp_path):
     assert kinds["two-limbs"] == ["1: 7 / 2", "1: 9 / 9"]
     assert kinds["other"] == ["1: 0 / 0", "1: 1 / 0"]
     assert "bend" not in kinds and "pull" not in kinds
+
+
+def script(tmp_path, cases, *options) -> subprocess.CompletedProcess:
+    path = tmp_path / "run.json"
+    path.write_text(json.dumps(cases))
+    return subprocess.run([sys.executable, str(SCRIPT), str(path), *options], capture_output=True, text=True)
+
+
+def test_saved_peer_runs_compare_like_the_run_itself(tmp_path):
+    case = {"case": "cow-limb0-twist137", "vertices": 3000, "support": 120, "handles": 1}
+    ours, peer = run(100, 5, 1, 5, 10.0), run(100, 2, 1, 0, 5.0, "CGAL ARAP")
+    with_peer = script(tmp_path, [{**case, "runs": [ours, peer]}], "--save-peer", str(tmp_path / "peer.json"))
+    assert with_peer.returncode == 0, with_peer.stderr
+    saved = json.loads((tmp_path / "peer.json").read_text())
+    assert [r["method"] for r in saved[0]["runs"]] == ["CGAL ARAP"] and saved[0]["support"] == 120
+    without_peer = script(tmp_path, [{**case, "runs": [ours]}], "--peer-from", str(tmp_path / "peer.json"))
+    assert without_peer.returncode == 0, without_peer.stderr
+    assert table(without_peer.stdout) == table(with_peer.stdout)
+    assert "cow-limb0-twist137: 5/2, 1/1" in without_peer.stdout
+
+
+def test_peer_runs_of_another_edit_are_refused(tmp_path):
+    case = {"case": "cow-limb0-twist137", "vertices": 3000, "support": 120, "handles": 1}
+    (tmp_path / "peer.json").write_text(json.dumps([{**case, "support": 140, "runs": [run(100, 2, 1, 0, 5.0, "CGAL ARAP")]}]))
+    out = script(tmp_path, [{**case, "runs": [run(100, 5, 1, 5, 10.0)]}], "--peer-from", str(tmp_path / "peer.json"))
+    assert out.returncode == 1 and out.stdout == ""
+    assert "case cow-limb0-twist137 has support 140 there and 120 here" in out.stderr
