@@ -6,7 +6,7 @@ the same totals per edit kind (bends, twists, pulls, several limbs), and per Fre
 (CGAL ARAP) by more than 2 folded edges or 2 collapsed faces, worst first. --peer-from takes the
 peer's runs from an earlier gallery JSON (the same cases: each case's vertex, support and handle
 counts must match), so that a quick loop without the peer (`bench_gallery --no-peer`) is still
-compared with it; data/gallery-cgal-arap.json stores them for the gallery's cases. --save-peer
+compared with it (data/gallery/ stores them: scripts/gallery-quick.sh). --save-peer
 writes the peer's runs of gallery.json alone to a file for --peer-from.
     scripts/gallery-summary.py gallery.json [--peer "CGAL ARAP"] [--peer-from peer.json] [--save-peer out.json]"""
 import json

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# The gallery's quick loop (docs/nonlinear.md, "Gallery"): Freeform alone on the gallery's cases,
+# or with --assimp on the assimp-testmodels files, compared with CGAL's ARAP runs of the same cases
+# stored in data/gallery/ (each case checked to be the same edit: gallery-summary.py --peer-from).
+# A minute for --config k2 --config k3, against 40 min for a run with the peer (scripts/gallery.sh).
+#   scripts/gallery-quick.sh [OUT_DIR=build/gallery-quick] [bench_gallery options, e.g. --config k2 --assimp]
+# Writes OUT_DIR/gallery.json and prints the summary. When the cases change, store the peer again:
+#   bench_gallery --config none [--assimp] > peer.json
+#   scripts/gallery-summary.py peer.json --save-peer data/gallery/cgal-arap[-assimp].json
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+export CCACHE_BASEDIR="$root" CCACHE_NOHASHDIR=1
+out=${1:-build/gallery-quick}
+shift || true
+peer=data/gallery/cgal-arap.json
+for option in "$@"; do
+  case "$option" in
+    --assimp) peer=data/gallery/cgal-arap-assimp.json ;;
+    --mesh) echo "gallery-quick: --mesh: no stored peer for other files; run bench_gallery with the peer" >&2; exit 2 ;;
+  esac
+done
+scripts/bootstrap.sh >/dev/null
+scripts/fetch-data.sh >/dev/null
+cmake --preset release >/dev/null
+cmake --build --preset release --target bench_gallery >/dev/null
+mkdir -p "$out"
+FREEFORM_MESH_DIR="${FREEFORM_MESH_DIR:-$root/.cache/cgal-meshes}" build/release/bench/bench_gallery --no-peer "$@" \
+  > "$out/gallery.json.tmp" 2>"$out/cases.txt"
+mv "$out/gallery.json.tmp" "$out/gallery.json"
+scripts/gallery-summary.py "$out/gallery.json" --peer-from "$peer"
