@@ -25,7 +25,12 @@ scripts/fetch-data.sh >/dev/null
 cmake --preset release >/dev/null
 cmake --build --preset release --target bench_gallery >/dev/null
 mkdir -p "$out"
-FREEFORM_MESH_DIR="${FREEFORM_MESH_DIR:-$root/.cache/cgal-meshes}" build/release/bench/bench_gallery --no-peer "$@" \
-  > "$out/gallery.json.tmp" 2>"$out/cases.txt"
+# The per-case table goes to cases.txt; on failure its end (the error) is shown.
+if ! FREEFORM_MESH_DIR="${FREEFORM_MESH_DIR:-$root/.cache/cgal-meshes}" build/release/bench/bench_gallery --no-peer "$@" \
+  > "$out/gallery.json.tmp" 2>"$out/cases.txt"; then
+  tail -n 5 "$out/cases.txt" >&2
+  rm -f "$out/gallery.json.tmp"
+  exit 1
+fi
 mv "$out/gallery.json.tmp" "$out/gallery.json"
 scripts/gallery-summary.py "$out/gallery.json" --peer-from "$peer"

@@ -13,11 +13,18 @@ def run(free, folds, collapsed, iterations, solve_ms, method="freeform k2"):
             "iterations": iterations, "solve_ms": solve_ms, "precompute_ms": 10.0, "converged": True}
 
 
-def summarize(tmp_path, cases) -> str:
-    """The script's output for `cases` written as a gallery JSON."""
-    path = tmp_path / "gallery.json"
+def script(tmp_path, cases, *options) -> subprocess.CompletedProcess:
+    """The script run on `cases` written as a gallery JSON."""
+    path = tmp_path / "run.json"
     path.write_text(json.dumps(cases))
-    return subprocess.run([sys.executable, str(SCRIPT), str(path)], check=True, capture_output=True, text=True).stdout
+    return subprocess.run([sys.executable, str(SCRIPT), str(path), *options], capture_output=True, text=True)
+
+
+def summarize(tmp_path, cases) -> str:
+    """The script's output for `cases`; it must succeed."""
+    out = script(tmp_path, cases)
+    assert out.returncode == 0, out.stderr
+    return out.stdout
 
 
 def table(text: str) -> dict:
@@ -58,12 +65,6 @@ def test_totals_by_edit_kind(tmp_path):
     assert kinds["two-limbs"] == ["1: 7 / 2", "1: 9 / 9"]
     assert kinds["other"] == ["1: 0 / 0", "1: 1 / 0"]
     assert "bend" not in kinds and "pull" not in kinds
-
-
-def script(tmp_path, cases, *options) -> subprocess.CompletedProcess:
-    path = tmp_path / "run.json"
-    path.write_text(json.dumps(cases))
-    return subprocess.run([sys.executable, str(SCRIPT), str(path), *options], capture_output=True, text=True)
 
 
 def test_saved_peer_runs_compare_like_the_run_itself(tmp_path):
