@@ -179,6 +179,11 @@ void write_result(const std::filesystem::path& dir, const std::string& stem, con
   write_mesh((dir / (stem + ".off")).string(), soup);
 }
 
+// A command line this program cannot run: exit 2, as for any other usage error.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 struct Options {
   bool quick = false, peer = true;
   std::string out;
@@ -196,7 +201,7 @@ Options parse(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
+      if (i + 1 >= argc) throw UsageError(a + " needs a value");
       return argv[++i];
     };
     if (a == "--quick")
@@ -220,7 +225,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--assimp")
       o.assimp = true;
     else
-      throw std::runtime_error("unknown option " + a);
+      throw UsageError("unknown option " + a);
   }
   return o;
 }
@@ -422,6 +427,13 @@ int linear_multires_gallery(const Options& o) {
   return 0;
 }
 
+// "k2", "k3", ... for the refusal of an unknown --config.
+std::string config_names(const std::vector<Config>& configs) {
+  std::string names;
+  for (const Config& c : configs) names += (names.empty() ? "'" : ", '") + c.name + "'";
+  return names;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) try {
@@ -435,6 +447,9 @@ int main(int argc, char** argv) try {
                                  {"k2 C0", 2, true, true},
                                  // order 1 with the 1-ring fit and no volume term: ARAP's own alternation
                                  {"k1 arap", 1, false, false, 0, 1000, false, true}};
+  for (const std::string& name : o.configs)
+    if (std::none_of(configs.begin(), configs.end(), [&](const Config& c) { return c.name == name; }))
+      throw UsageError("unknown configuration '" + name + "' (known: " + config_names(configs) + ")");
   std::erase_if(configs, [&](const Config& c) {
     return o.configs.empty() ? c.on_request
                              : std::find(o.configs.begin(), o.configs.end(), c.name) == o.configs.end();
@@ -474,8 +489,12 @@ int main(int argc, char** argv) try {
         std::fprintf(stderr, " | %4d %4d", r["folded_edges"].get<int>(), r["collapsed_faces"].get<int>());
     std::fprintf(stderr, "\n");
   }
+  if (out.empty()) throw UsageError("no case's name contains '" + o.only + "' (--case)");
   std::cout << out.dump(1) << "\n";
   return 0;
+} catch (const UsageError& e) {
+  std::fprintf(stderr, "bench_gallery: %s\n", e.what());
+  return 2;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "bench_gallery: %s\n", e.what());
   return 1;
