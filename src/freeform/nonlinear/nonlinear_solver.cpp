@@ -122,10 +122,11 @@ struct NonlinearSolver::Data {
   Eigen::VectorXd mu, lagged_mu;       // empty: no membrane
   bool lagged = false;                 // some lagged_mu is not 0
   // Per row of the fit (the free rows and the constrained (k-1)-ring): in a part with a local
-  // membrane; its part's field_below, and the share of the field's rotation its membrane
-  // turns with (from its 1-ring fit's conditioning, fit_rotations()).
+  // membrane; its part's field_below and field_lean, and the share of the field's rotation its
+  // membrane turns with (at least the lean; more where its 1-ring fit is ill-conditioned,
+  // fit_rotations()).
   std::vector<char> local_row;
-  std::vector<double> field_below, field_share;
+  std::vector<double> field_below, field_lean, field_share;
   bool local_membrane = false;         // some part has one
   std::vector<OneSided> face_targets;  // per face of the fans
   std::vector<Eigen::Quaterniond> q_local;
@@ -462,6 +463,7 @@ void NonlinearSolver::add_membrane(const SupportParts& parts, const std::vector<
   const auto rows = static_cast<std::size_t>(d.n_inner);
   d.local_row.resize(rows);
   d.field_below.resize(rows);
+  d.field_lean.assign(rows, 0.0);
   d.field_share.assign(rows, 0.0);
   for (int i = 0; i < p; ++i) {
     d.mu(i) = mu[part(i)];
@@ -479,6 +481,7 @@ void NonlinearSolver::add_membrane(const SupportParts& parts, const std::vector<
     d.local_row[i] = s.local_membrane ? 1 : 0;
     if (i < static_cast<std::size_t>(p)) {
       d.field_below[i] = s.field_below;  // 0 without a local membrane
+      d.field_share[i] = d.field_lean[i] = s.field_lean;
     } else {
       d.field_below[i] = 0.0;
       d.field_share[i] = 1.0 - std::clamp(d.sys->smoothness[i - static_cast<std::size_t>(p)], 0.0, 1.0);
@@ -560,7 +563,8 @@ void NonlinearSolver::fit_rotations() {
       extract_rotation(d.cov[ui], d.q_local[ui]);
       // Without a threshold (and on the constrained rows) the share stays as add_membrane set it.
       if (const double below = d.field_below[ui]; below > 0.0)
-        d.field_share[ui] = std::clamp(2.0 * (below - fit_conditioning(d.cov[ui], d.q_local[ui])) / below, 0.0, 1.0);
+        d.field_share[ui] =
+            std::clamp(2.0 * (below - fit_conditioning(d.cov[ui], d.q_local[ui])) / below, d.field_lean[ui], 1.0);
     });
   // Summing the neighbours' covariances ring by ring fits R_i to a wider patch: a smoother
   // rotation field (like SR-ARAP's smoothness term), fewer iterations, less necking. The

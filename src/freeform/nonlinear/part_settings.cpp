@@ -34,15 +34,17 @@ constexpr double kMembraneFree = 500.0, kMaxMembrane = 2.0;
 // gallery found", 22).
 constexpr int kLocalMembraneMaxFree = 10000;
 // How the membrane's targets follow the edges' stretch (face_fans.h). With its own 1-ring
-// rotations: compressed edges pushed out, stretched ones pulled back halfway (chosen on the
-// gallery, docs/nonlinear.md, "What the gallery found", 21). Up to kStiffCompressionFull free
-// vertices pushed out by 1.25 times their compression: limbs keep their cross-sections and
-// crooks fold less (items 35, 40 and 54; it converges on supports this large since sliding
-// iterations are moved on, drift.h; not beyond: the subdivided armadillo's arm twist folded;
-// 1.5 times folded a spider's leg where ARAP folds nothing), blended into the former up to
-// kStiffCompressionNone. Stretched edges are pulled back by only a fifth of their
-// stretch up to kReleasedStretchFull, blended into half by kReleasedStretchNone: released on
-// larger supports, the survey's twisted bar (1,640 free) buckled in its middle (item 40).
+// rotations: compressed edges pushed out by 1.25 times their compression, stretched ones pulled
+// back halfway: limbs keep their cross-sections and crooks fold less (docs/nonlinear.md, "What
+// the gallery found", 21, 35, 40 and 54; 1.5 times folded a spider's leg where ARAP folds
+// nothing). From kLeanFrom free vertices on, where the 1-ring rotations alone converged slowly
+// and with a push of half the compression folded the subdivided armadillo's twists (until
+// item 56 the push fell to that from 5,000 to 8,000 free vertices), each row's membrane turns
+// halfway to the smoothed field (kFieldLean, blended in by kLeanFull): with the field alone
+// more faces collapsed at k = 2 (item 56). Stretched edges are pulled back by only a fifth of
+// their stretch up to kReleasedStretchFull, blended into half by kReleasedStretchNone:
+// released on larger supports, the survey's twisted bar (1,640 free) buckled in its middle
+// (item 40).
 // Fed back through the right-hand side alone, that push flips a mode's sign every iteration, so
 // there the factored operator holds kLaggedMembrane more of the membrane's weight and the
 // right-hand side gives it back at the current iterate: the fixed points stay, and for a
@@ -51,23 +53,19 @@ constexpr int kLocalMembraneMaxFree = 10000;
 // onset is smooth: releasing stretch, or a kink at the rest length, made the editor benchmark's
 // bunny twist settle in 40-300 iterations instead of 25-28; without the push the subdivided
 // armadillo's knee crumpled at C0 (item 28).
-constexpr OneSided kLocalMembrane{}, kStiffCompression{1.25, 0.8, 0.0}, kFieldMembrane{0.5, 0.0, 0.1};
-constexpr double kStiffCompressionFull = 5000.0, kStiffCompressionNone = 8000.0;
-constexpr double kReleasedStretchFull = 1000.0, kReleasedStretchNone = 1500.0;
+constexpr OneSided kLocalMembrane{1.25, 0.5}, kFieldMembrane{0.5, 0.0, 0.1};
+constexpr double kReleasedStretch = 0.8, kReleasedStretchFull = 1000.0, kReleasedStretchNone = 1500.0;
+constexpr double kFieldLean = 0.5, kLeanFrom = 5000.0, kLeanFull = 6000.0;
 constexpr double kLaggedMembrane = 1.0;
 // Where the field bends rather than twists (FaceFans::where_bent), a stretch is accepted wholly
-// on the supports that push compression out fully, blended out with that push: the outside of
-// a crook stretches and its inside folds less. Beyond, the slowest twists (8,000-10,000 free
-// vertices) took a fifth to a third more iterations (docs/nonlinear.md, "What the gallery
-// found", 48).
+// with the 1-ring rotations: the outside of a crook stretches and its inside folds less
+// (docs/nonlinear.md, "What the gallery found", 48).
 constexpr double kBentStretchShare = 1.0;
 // Where a row's 1-ring fit is ill-conditioned (fit_conditioning below this; 1/4 on a flat, even
 // fan), its membrane turns with the smoothed field: the 1-ring rotation of a fan folded flat or
 // of a needle's corner swings from one iteration to the next, and runs cycled to the cap (a
-// small handle at the corner of a sheet, the engine block's needles). Applied with the stiff
-// push (whole up to 5,000 free vertices, none from 8,000): at 0.2 more faces collapsed on meshes
-// the gallery does not use, and on larger supports the slowest twists took far more iterations
-// (docs/nonlinear.md, "What the gallery found", 51).
+// small handle at the corner of a sheet, the engine block's needles). At 0.2 more faces
+// collapsed on meshes the gallery does not use (docs/nonlinear.md, "What the gallery found", 51).
 constexpr double kFieldBelowConditioning = 0.15;
 
 }  // namespace
@@ -91,15 +89,14 @@ PartSettings part_settings(int free, int order, const NonlinearOptions& options)
     s.targets = kFieldMembrane;
     return s;
   }
-  const auto share = [free](double from, double to) { return std::clamp((to - free) / (to - from), 0.0, 1.0); };
-  const double stiff = share(kStiffCompressionFull, kStiffCompressionNone);
-  const double released = share(kReleasedStretchFull, kReleasedStretchNone);
-  const auto blend = [](double t, double from, double to) { return from + t * (to - from); };
-  s.targets = {blend(stiff, kLocalMembrane.compression_gain, kStiffCompression.compression_gain),
-               blend(released, kLocalMembrane.stretch_share, kStiffCompression.stretch_share), 0.0,
-               stiff * kBentStretchShare};
-  s.lagged = stiff * kLaggedMembrane;
-  s.field_below = stiff * kFieldBelowConditioning;
+  const auto up = [free](double from, double to) { return std::clamp((free - from) / (to - from), 0.0, 1.0); };
+  const double released = 1.0 - up(kReleasedStretchFull, kReleasedStretchNone);
+  s.targets = kLocalMembrane;
+  s.targets.stretch_share += released * (kReleasedStretch - kLocalMembrane.stretch_share);
+  s.targets.bent_stretch_share = kBentStretchShare;
+  s.lagged = kLaggedMembrane;
+  s.field_below = kFieldBelowConditioning;
+  s.field_lean = kFieldLean * up(kLeanFrom, kLeanFull);
   return s;
 }
 

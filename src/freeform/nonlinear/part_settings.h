@@ -23,6 +23,9 @@ struct PartSettings {
   // With local_membrane: a row whose own 1-ring fit is conditioned below this (fit_conditioning,
   // rotation.h) turns its membrane edges with the smoothed field instead, wholly at half of it.
   double field_below = 0.0;
+  // With local_membrane: the least share of the smoothed field's rotation in every row's
+  // membrane rotation (a slerp from its own 1-ring fit).
+  double field_lean = 0.0;
 };
 
 // The settings of a part of `free` free vertices at order `order`; options' non-negative
