@@ -489,7 +489,8 @@ int main(int argc, char** argv) try {
         std::fprintf(stderr, " | %4d %4d", r["folded_edges"].get<int>(), r["collapsed_faces"].get<int>());
     std::fprintf(stderr, "\n");
   }
-  if (out.empty()) throw UsageError("no case's name contains '" + o.only + "' (--case)");
+  if (out.empty() && !o.only.empty()) throw UsageError("no case's name contains '" + o.only + "' (--case)");
+  if (out.empty()) throw std::runtime_error("no case to run: no limb edit on the meshes given");
   std::cout << out.dump(1) << "\n";
   return 0;
 } catch (const UsageError& e) {
