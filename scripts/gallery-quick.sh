@@ -11,8 +11,12 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 export CCACHE_BASEDIR="$root" CCACHE_NOHASHDIR=1
-out=${1:-build/gallery-quick}
-shift || true
+out=build/gallery-quick
+# An option first means OUT_DIR was left out, not that it is named like an option.
+if [[ $# -gt 0 && $1 != --* ]]; then
+  out=$1
+  shift
+fi
 peer=data/gallery/cgal-arap.json
 for option in "$@"; do
   case "$option" in
