@@ -3,7 +3,8 @@
 the mean over cases of the support's compressive strain and halved area, unconverged runs, the slowest run, the
 iterations, the runs over issue 37's time goal (a solve over 1 s at up to 10,000 free vertices, over 10 s above),
 the same totals per edit kind (bends, twists, pulls, several limbs), and per Freeform method the cases worse than the peer
-(CGAL ARAP) by more than 2 folded edges or 2 collapsed faces, worst first. --peer-from takes the
+(CGAL ARAP) by more than 2 folded edges or 2 collapsed faces, worst first, and its runs over the time goal or
+unconverged, slowest first. --peer-from takes the
 peer's runs from an earlier gallery JSON (the same cases: each case's vertex, support and handle
 counts must match), so that a quick loop without the peer (`bench_gallery --no-peer`) is still
 compared with it (data/gallery/ stores them: scripts/gallery-quick.sh). --save-peer
@@ -42,6 +43,17 @@ def print_kinds(cases: list, methods: list[str]) -> None:
     for kind in [k for k in KINDS + ("other",) if k in totals]:
         cells = [f"{t[0]}: {t[1]} / {t[2]}" if (t := totals[kind].get(m)) else "" for m in methods]
         print(f"| {kind} | " + " | ".join(cells) + " |")
+
+
+def print_late_runs(methods: dict, peer: str) -> None:
+    """Per method but the peer, its runs over the time goal or unconverged by name, slowest first."""
+    for name, m in methods.items():
+        if name == peer or not m["late"]:
+            continue
+        print(f"\n{name}: runs over the time goal or unconverged (free vertices, iterations, solve)")
+        for ms, case, free, iterations, converged in sorted(m["late"], reverse=True)[:8]:
+            print(f"  {case}: {free} free, {iterations} iterations, {ms:.0f} ms" +
+                  ("" if converged else ", not converged"))
 
 
 def take_option(args: list[str], flag: str) -> str | None:
@@ -132,7 +144,7 @@ def main() -> int:
         for name, r in runs.items():
             m = methods.setdefault(name, {"folds": 0, "collapsed": 0, "compression": 0.0, "halved": 0.0,
                                           "errors": 0, "unconverged": 0, "max_ms": 0.0, "worse": [], "cases": 0,
-                                          "iterations": 0, "slow": 0})
+                                          "iterations": 0, "slow": 0, "late": []})
             m["cases"] += 1
             if "error" in r:
                 m["errors"] += 1
@@ -144,8 +156,11 @@ def main() -> int:
             m["unconverged"] += 0 if r.get("converged", True) else 1
             m["max_ms"] = max(m["max_ms"], r.get("precompute_ms", 0) + r.get("solve_ms", 0))
             m["iterations"] += r.get("iterations", 0)
-            if "solve_ms" in r and r["solve_ms"] > (SMALL_MS if r.get("free", 0) <= SMALL_FREE else LARGE_MS):
-                m["slow"] += 1
+            slow = "solve_ms" in r and r["solve_ms"] > (SMALL_MS if r.get("free", 0) <= SMALL_FREE else LARGE_MS)
+            m["slow"] += 1 if slow else 0
+            if slow or not r.get("converged", True):
+                m["late"].append((r.get("solve_ms", 0.0), case["case"], r.get("free", 0), r.get("iterations", 0),
+                                  r.get("converged", True)))
             if ref and "error" not in ref and name != peer:
                 df = r["folded_edges"] - ref["folded_edges"]
                 dc = r["collapsed_faces"] - ref["collapsed_faces"]
@@ -168,6 +183,7 @@ def main() -> int:
         print(f"\n{name}: worst cases against {peer} (folds ours/peer, collapsed ours/peer)")
         for _, case, f, pf, c, pc in sorted(m["worse"], reverse=True)[:8]:
             print(f"  {case}: {f}/{pf}, {c}/{pc}")
+    print_late_runs(methods, peer)
     return 0
 
 

@@ -50,6 +50,19 @@ def test_totals_worse_cases_and_time_goal(tmp_path):
     assert ours[-2:] == ["37", "2"]  # iterations, over the time goal
     assert rows["CGAL ARAP"][-1] == "1"  # its 9 s at 5,000 free
     assert "small: 5/2, 0/0" in out
+    # The runs over the goal by name, slowest first; the peer's are not listed.
+    late = out.split("freeform k2: runs over the time goal or unconverged")[1].splitlines()[1:]
+    assert late == ["  larger: 40000 free, 20 iterations, 11000 ms", "  small: 5000 free, 10 iterations, 1500 ms"]
+    assert "CGAL ARAP: runs over" not in out
+
+
+def test_unconverged_runs_are_listed_by_name(tmp_path):
+    capped = {**run(300, 1, 0, 500, 400.0), "converged": False}
+    out = summarize(tmp_path, [{"case": "engine-limb1-bend87", "runs": [capped]},
+                               {"case": "fast", "runs": [run(300, 0, 0, 20, 30.0)]}])
+    assert table(out)["freeform k2"][6] == "1"  # unconverged
+    assert "  engine-limb1-bend87: 300 free, 500 iterations, 400 ms, not converged" in out
+    assert "fast:" not in out
 
 
 def test_totals_by_edit_kind(tmp_path):
