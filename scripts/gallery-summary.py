@@ -3,8 +3,8 @@
 the mean over cases of the support's compressive strain and halved area, unconverged runs, the slowest run, the
 iterations, the runs over issue 37's time goal (a solve over 1 s at up to 10,000 free vertices, over 10 s above),
 the same totals per edit kind (bends, twists, pulls, several limbs), and per Freeform method the cases worse than the peer
-(CGAL ARAP) by more than 2 folded edges or 2 collapsed faces, worst first, and its runs over the time goal or
-unconverged, slowest first. --peer-from takes the
+(CGAL ARAP) by more than 2 folded edges or 2 collapsed faces, worst first, and its unconverged runs and those
+over the time goal, slowest first. --peer-from takes the
 peer's runs from an earlier gallery JSON (the same cases: each case's vertex, support and handle
 counts must match), so that a quick loop without the peer (`bench_gallery --no-peer`) is still
 compared with it (data/gallery/ stores them: scripts/gallery-quick.sh). --save-peer
@@ -46,12 +46,12 @@ def print_kinds(cases: list, methods: list[str]) -> None:
 
 
 def print_late_runs(methods: dict, peer: str) -> None:
-    """Per method but the peer, its runs over the time goal or unconverged by name, slowest first."""
+    """Per method but the peer, its unconverged runs and then those over the time goal by name, slowest first."""
     for name, m in methods.items():
         if name == peer or not m["late"]:
             continue
-        print(f"\n{name}: runs over the time goal or unconverged (free vertices, iterations, solve)")
-        for ms, case, free, iterations, converged in sorted(m["late"], reverse=True)[:8]:
+        print(f"\n{name}: runs unconverged or over the time goal (free vertices, iterations, solve)")
+        for ms, case, free, iterations, converged in sorted(m["late"], key=lambda t: (t[4], -t[0]))[:8]:
             print(f"  {case}: {free} free, {iterations} iterations, {ms:.0f} ms" +
                   ("" if converged else ", not converged"))
 
