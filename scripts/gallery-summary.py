@@ -3,8 +3,8 @@
 the mean over cases of the support's compressive strain and halved area, unconverged runs, the slowest run, the
 iterations, the runs over issue 37's time goal (a solve over 1 s at up to 10,000 free vertices, over 10 s above),
 the same totals per edit kind (bends, twists, pulls, several limbs), and per Freeform method the cases worse than the peer
-(CGAL ARAP) by more than 2 folded edges or 2 collapsed faces, worst first, and its unconverged runs and those
-over the time goal, slowest first. --peer-from takes the
+(CGAL ARAP) by more than 2 folded edges or 2 collapsed faces, worst first, and its unconverged runs, then
+those over the time goal, slowest first. --peer-from takes the
 peer's runs from an earlier gallery JSON (the same cases: each case's vertex, support and handle
 counts must match), so that a quick loop without the peer (`bench_gallery --no-peer`) is still
 compared with it (data/gallery/ stores them: scripts/gallery-quick.sh). --save-peer
