@@ -6,13 +6,16 @@
 // weighted max(0, -ln sigma_min)) and its share of area halved, the largest dihedral increase, the volume ratio
 // (closed meshes), iterations, converged, time. JSON on stdout, a summary table on stderr.
 //   bench_gallery [--quick] [--no-peer] [--out DIR] [--peer-iterations N] [--seed S] [--linear-multires]
-//                 [--config NAME]... [--case TEXT] [--mesh FILE]... [--assimp]
+//                 [--config NAME]... [--case TEXT] [--mesh FILE]... [--assimp] [--drags]
 // --out writes each case's rest and deformed meshes (OFF) for scripts/gallery.sh's contact sheet, and the
 // edit file of the Freeform run written (`freeform deform CASE-rest.off --edit CASE.edit.json` repeats it).
 // --mesh: instead of the gallery's meshes, the same limb edits (3 limbs, support radius 0.2 of the
 // diagonal) on any mesh files: meshes nobody tuned for, repaired as `freeform convert --repair` does.
 // --assimp: the same on every OBJ, OFF, PLY, STL and glTF file of Debian's assimp-testmodels
 // (/usr/share/assimp/models, or FREEFORM_ASSIMP_DIR) with at least 300 vertices.
+// --drags: the limbs' handles moved without turning (a translate gizmo's edits; drag_cases): each
+// dragged sideways by 40-100 % of the limb's length, the first also pushed toward the body by
+// 20-40 %, instead of the bends, twists and pulls; no survey shapes.
 // --linear-multires: the linear model's multiresolution instead, both encodings (vertex frames,
 // normal displacement) on the same cases with their rotations scaled to a third (edits linear
 // BCM is made for) and on surface patches, judged by the same counts plus the detail heights
@@ -194,6 +197,7 @@ struct Options {
   std::string only;                  // --case TEXT: only the cases whose name contains it
   std::vector<std::string> meshes;   // --mesh FILE (repeatable): limb edits on these files only
   bool assimp = false;               // --assimp: limb edits on assimp-testmodels' files
+  bool drags = false;                // --drags: the limbs dragged sideways instead (drag_cases)
 };
 
 Options parse(int argc, char** argv) {
@@ -224,6 +228,8 @@ Options parse(int argc, char** argv) {
       o.meshes.push_back(value());
     else if (a == "--assimp")
       o.assimp = true;
+    else if (a == "--drags")
+      o.drags = true;
     else
       throw UsageError("unknown option " + a);
   }
@@ -262,7 +268,7 @@ std::vector<Shape> file_gallery(const Options& o) {
       if (mesh.n_vertices() < kMinFileVertices) continue;
       const std::filesystem::path path(file);
       const std::string label = path.parent_path().filename().string() + "-" + path.filename().string();
-      std::vector<Shape> limbs = test::limb_cases(label, mesh, 3, 0.2, rng);
+      std::vector<Shape> limbs = (o.drags ? test::drag_cases : test::limb_cases)(label, mesh, 3, 0.2, rng);
       if (limbs.empty()) std::fprintf(stderr, "gallery: %s: no limb found, skipped\n", file.c_str());
       for (Shape& s : limbs) cases.push_back(std::move(s));
     } catch (const std::exception& e) {
@@ -275,13 +281,13 @@ std::vector<Shape> file_gallery(const Options& o) {
 std::vector<Shape> gallery(const Options& o) {
   if (!o.meshes.empty() || o.assimp) return file_gallery(o);
   std::vector<Shape> cases;
-  Shape cyl = test::flat_cylinder_bend();
-  Shape bar = test::bar_twist(), capsule = test::cylinder_bend();
-  cases.push_back(std::move(cyl));
-  cases.push_back(std::move(bar));
-  cases.push_back(std::move(capsule));
   const std::filesystem::path dir = freeform::bench::mesh_dir();
-  if (auto c = test::cactus_whole_bend(dir)) cases.push_back(std::move(*c));
+  if (!o.drags) {
+    cases.push_back(test::flat_cylinder_bend());
+    cases.push_back(test::bar_twist());
+    cases.push_back(test::cylinder_bend());
+    if (auto c = test::cactus_whole_bend(dir)) cases.push_back(std::move(*c));
+  }
   // mesh, limbs, support radius (fraction of the diagonal), midpoint subdivisions
   struct Source {
     const char* name;
@@ -308,7 +314,8 @@ std::vector<Shape> gallery(const Options& o) {
     const Mesh mesh = Mesh::from_soup(soup);
     const std::string label =
         src.subdivide > 0 ? std::string(src.name) + "-sub" + std::to_string(src.subdivide) : src.name;
-    for (Shape& s : test::limb_cases(label, mesh, src.limbs, src.radius, rng)) cases.push_back(std::move(s));
+    for (Shape& s : (o.drags ? test::drag_cases : test::limb_cases)(label, mesh, src.limbs, src.radius, rng))
+      cases.push_back(std::move(s));
   }
   return cases;
 }

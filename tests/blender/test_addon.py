@@ -325,7 +325,9 @@ def test_keep_volume_switches_the_nonlinear_models_volume_term_as_in_the_cli(sce
             s.thread.join()
             while ops._poll_precompute() is not None:
                 pass
-        bpy.ops.freeform.transform(mode='TRANSLATE', translate=(0.0, 0.0, 0.6))  # a pull
+        # A twist: the model's rotations keep edge lengths, so without the term the part necks.
+        # (A pull would add volume with it too: a drag's volume is the user's, docs/nonlinear.md.)
+        bpy.ops.freeform.transform(mode='ROTATE', angle=np.radians(90), axis=(0.0, 0.0, 1.0))
         tris = np.asarray(session.get(obj).tris)  # the model's triangles (quads split as it did)
         rest_volume = enclosed_volume(rest, tris)
         volumes[keep] = enclosed_volume(coords(obj), tris)
@@ -334,7 +336,9 @@ def test_keep_volume_switches_the_nonlinear_models_volume_term_as_in_the_cli(sce
         assert json.loads((tmp_path / "pull.json").read_text())["nonlinear"]["preserve_volume"] is keep
         replayed = cli_deform(tmp_path / "rest.off", tmp_path / "pull.json", tmp_path / "replayed.off")
         assert np.abs(got - replayed).max() <= 1e-5 * diagonal(rest)
-        assert np.allclose(got[handle], rest[handle] + [0.0, 0.0, 0.6], atol=1e-5)
-        bpy.ops.freeform.transform(mode='TRANSLATE', translate=(0.0, 0.0, -0.6))  # back
+        centre = rest[handle].mean(axis=0)  # turned about the handle's centroid
+        turned = (rest[handle] - centre) @ np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]) + centre
+        assert np.allclose(got[handle], turned, atol=1e-5)
+        bpy.ops.freeform.transform(mode='ROTATE', angle=np.radians(-90), axis=(0.0, 0.0, 1.0))  # back
     assert abs(volumes[True] / rest_volume - 1.0) < 1e-5  # kept (to float32 coordinates)
-    assert volumes[False] > 1.05 * rest_volume  # the pull adds volume without the term
+    assert volumes[False] < 0.99 * rest_volume  # the twist necks without the term

@@ -2,7 +2,8 @@
 // real meshes that nobody tuned the nonlinear model for. A limb edit takes a geodesic ball
 // around an extremity (farthest-point samples of the edge-path distance) as the support and its
 // inner third as the handle; the limb's axis runs from the ball's rim to the handle, and the
-// handle is bent away from the body about the rim, twisted about the axis, or pulled along it.
+// handle is bent away from the body about the rim, twisted about the axis, or pulled along it;
+// drag_cases() moves it sideways instead, its orientation kept, as a translate gizmo does.
 #pragma once
 
 #include "survey_shapes.h"
@@ -16,7 +17,7 @@
 
 namespace freeform::test {
 
-enum class LimbEdit { Bend, Twist, Pull };
+enum class LimbEdit { Bend, Twist, Pull, Drag };
 
 inline Vec3 centroid(const Mesh& mesh) {
   Vec3 c = Vec3::Zero();
@@ -78,16 +79,24 @@ inline std::optional<Limb> limb(const Mesh& mesh, Vertex tip_vertex, double radi
   return l;
 }
 
-// Bend about the rim (the handle swings away from the body's centroid), twist about the axis,
-// or pull along it by `amount` (degrees; for a pull the fraction of the limb's length).
-inline Eigen::Affine3d limb_transform(const Mesh& mesh, const Limb& l, LimbEdit kind, double amount) {
-  if (kind == LimbEdit::Pull) return Eigen::Affine3d(Eigen::Translation3d(amount * (l.tip - l.rim)));
-  if (kind == LimbEdit::Twist) return rotation_about(l.rim, amount, l.axis);
+// Across the limb's axis, away from the body's centroid (unit).
+inline Vec3 away_from_body(const Mesh& mesh, const Limb& l) {
   Vec3 away = l.rim - centroid(mesh);
   away -= away.dot(l.axis) * l.axis;
   if (away.norm() < 1e-9 * (l.tip - l.rim).norm()) away = l.axis.unitOrthogonal();
+  return away.normalized();
+}
+
+// Bend about the rim (the handle swings away from the body's centroid), twist about the axis,
+// pull along it, or drag the handle sideways (away from the body, not turned) by `amount`
+// (degrees; for a pull or a drag the fraction of the limb's length).
+inline Eigen::Affine3d limb_transform(const Mesh& mesh, const Limb& l, LimbEdit kind, double amount) {
+  if (kind == LimbEdit::Pull) return Eigen::Affine3d(Eigen::Translation3d(amount * (l.tip - l.rim)));
+  if (kind == LimbEdit::Twist) return rotation_about(l.rim, amount, l.axis);
+  const Vec3 away = away_from_body(mesh, l);
+  if (kind == LimbEdit::Drag) return Eigen::Affine3d(Eigen::Translation3d(amount * (l.tip - l.rim).norm() * away));
   // Rotating about axis x away moves the tip (along the axis from the rim) toward `away`.
-  return rotation_about(l.rim, amount, l.axis.cross(away.normalized()));
+  return rotation_about(l.rim, amount, l.axis.cross(away));
 }
 
 inline Shape limb_case(const std::string& name, const Mesh& mesh, const std::vector<const Limb*>& limbs,
@@ -108,14 +117,20 @@ inline Shape limb_case(const std::string& name, const Mesh& mesh, const std::vec
 // Seeded edits on each of `n_limbs` limbs (support radius `radius_frac` of the diagonal): a bend
 // (60-150 degrees), a twist (90-180), on the first a pull (30 %), and both first limbs bent at
 // once (two handles) when their supports are disjoint.
-inline std::vector<Shape> limb_cases(const std::string& mesh_name, const Mesh& mesh, int n_limbs, double radius_frac,
-                                     std::mt19937& rng) {
+// The limbs at the first `n_limbs` extremities (support radius `radius_frac` of the diagonal).
+inline std::vector<Limb> limbs_of(const Mesh& mesh, int n_limbs, double radius_frac) {
   Vec3 lo = mesh.position(Vertex(0)), hi = lo;
   for (Vertex v : mesh.vertices()) lo = lo.cwiseMin(mesh.position(v)), hi = hi.cwiseMax(mesh.position(v));
   const double radius = radius_frac * (hi - lo).norm();
   std::vector<Limb> limbs;
   for (Vertex tip : extremities(mesh, n_limbs))
     if (auto l = limb(mesh, tip, radius)) limbs.push_back(std::move(*l));
+  return limbs;
+}
+
+inline std::vector<Shape> limb_cases(const std::string& mesh_name, const Mesh& mesh, int n_limbs, double radius_frac,
+                                     std::mt19937& rng) {
+  const std::vector<Limb> limbs = limbs_of(mesh, n_limbs, radius_frac);
   std::uniform_real_distribution<double> bend(60, 150), twist(90, 180);
   std::vector<Shape> out;
   for (std::size_t i = 0; i < limbs.size(); ++i) {
@@ -140,6 +155,28 @@ inline std::vector<Shape> limb_cases(const std::string& mesh_name, const Mesh& m
           mesh_name + "-two-limbs-bend" + std::to_string(static_cast<int>(b)), mesh, {&limbs[0], &limbs[1]},
           {limb_transform(mesh, limbs[0], LimbEdit::Bend, b), limb_transform(mesh, limbs[1], LimbEdit::Bend, b)}));
     }
+  }
+  return out;
+}
+
+// The same limbs moved without turning the handle, as a translate gizmo does: each dragged
+// sideways (away from the body) by 40-100 % of its length, the first also pushed toward the
+// body along its axis by 20-40 % (a compression). The support must find its own rotations: the
+// guidance field is the identity.
+inline std::vector<Shape> drag_cases(const std::string& mesh_name, const Mesh& mesh, int n_limbs, double radius_frac,
+                                     std::mt19937& rng) {
+  const std::vector<Limb> limbs = limbs_of(mesh, n_limbs, radius_frac);
+  std::uniform_int_distribution<int> sideways(40, 100), push(20, 40);
+  std::vector<Shape> out;
+  for (std::size_t i = 0; i < limbs.size(); ++i) {
+    const std::string stem = mesh_name + "-limb" + std::to_string(i);
+    const int d = sideways(rng);
+    out.push_back(limb_case(stem + "-drag" + std::to_string(d), mesh, {&limbs[i]},
+                            {limb_transform(mesh, limbs[i], LimbEdit::Drag, d / 100.0)}));
+    if (i > 0) continue;
+    const int c = push(rng);
+    out.push_back(limb_case(stem + "-push" + std::to_string(c), mesh, {&limbs[i]},
+                            {limb_transform(mesh, limbs[i], LimbEdit::Pull, -c / 100.0)}));
   }
   return out;
 }

@@ -75,12 +75,19 @@ def test_totals_by_edit_kind(tmp_path):
         # Two limbs bent: its own kind, not a bend.
         {"case": "cow-two-limbs-bend112", "runs": [run(200, 7, 2, 5, 10.0), run(200, 9, 9, 0, 5.0, "CGAL ARAP")]},
         {"case": "bar", "runs": [run(50, 0, 0, 5, 10.0), run(50, 1, 0, 0, 5.0, "CGAL ARAP")]},
+        # bench_gallery --drags: handles moved without turning.
+        {"case": "cow-limb0-drag71", "runs": [run(100, 0, 1, 5, 10.0), run(100, 2, 2, 0, 5.0, "CGAL ARAP")]},
+        {"case": "cow-limb0-push30", "runs": [run(100, 3, 4, 5, 10.0), run(100, 1, 0, 0, 5.0, "CGAL ARAP")]},
     ]
-    kinds = table(summarize(tmp_path, cases).split("By edit kind (cases: folded edges / collapsed faces)\n\n")[1])
+    out = summarize(tmp_path, cases)
+    kinds = table(out.split("By edit kind (cases: folded edges / collapsed faces)\n\n")[1])
     assert kinds["twist"] == ["2: 5 / 1", "2: 6 / 5"]
     assert kinds["two-limbs"] == ["1: 7 / 2", "1: 9 / 9"]
+    assert kinds["drag"] == ["1: 0 / 1", "1: 2 / 2"]
+    assert kinds["push"] == ["1: 3 / 4", "1: 1 / 0"]
     assert kinds["other"] == ["1: 0 / 0", "1: 1 / 0"]
     assert "bend" not in kinds and "pull" not in kinds
+    assert list(kinds)[-3:] == ["drag", "push", "other"]  # in the order of KINDS
 
 
 def test_saved_peer_runs_compare_like_the_run_itself(tmp_path):

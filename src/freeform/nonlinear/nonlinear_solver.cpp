@@ -90,6 +90,27 @@ void rotation_and_scale(const Eigen::Matrix3d& l, Eigen::Quaterniond& q, double&
   scale = std::cbrt(sv(0)) * std::cbrt(sv(1)) * std::cbrt(sv(2));
 }
 
+// What a handle's rigid motion T (x -> R x + t, rotation vector w) drags, for the volume target
+// (start_volumes). A turn keeps a limb's volume; it turns about its screw axis (Chasles), and
+// the slide along that axis, t's part along w, moves the handle into or out of the body. Where
+// that axis passes far from the handle (beyond the support's extent: a small turn about a far
+// axis, the accident of a translate gizmo), the motion is a translation: the handle's whole move
+// T(h) - h drags (h its centre), so the drag does not jump at w = 0, where it is t. Blended
+// between one and two extents; the same in any coordinates.
+Vec3 drag(const Eigen::Affine3d& motion, const Vec3& w, const Vec3& h, double extent) {
+  const Vec3 t = motion.translation(), move = motion * h - h;
+  const double angle = w.norm();
+  if (!(angle > 0.0)) return t;
+  const Vec3 axis = w / angle;
+  const Vec3 along = t.dot(axis) * axis, across = t - along;
+  // A point of the screw axis, and the handle's distance from the axis.
+  const Vec3 point = 0.5 * (across + axis.cross(across) / std::tan(0.5 * angle));
+  const Vec3 off = h - point;
+  const double far = std::clamp((off - off.dot(axis) * axis).norm() / extent - 1.0, 0.0, 1.0);
+  const double blend = far * far * (3.0 - 2.0 * far);
+  return along + blend * (move - along);
+}
+
 }  // namespace
 
 struct NonlinearSolver::Data {
@@ -275,6 +296,41 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
 
 NonlinearSolver::~NonlinearSolver() = default;
 
+// The volume targets: the rest's, or where a handle is dragged (drag() above the round-off of a
+// turn's) the rest moved by the drags, blended through the support by the guidance weights (a
+// shear across a limb keeps its volume; pushed in, it loses what it must).
+void NonlinearSolver::start_volumes(std::span<const Eigen::Affine3d> transforms, std::span<const Vec3> omega,
+                                    std::span<const double> handle_s) {
+  Data& d = *d_;
+  const int p = n_free_, c = static_cast<int>(d.owner.size());
+  std::vector<Vec3> drags(static_cast<std::size_t>(n_movable_)), centre(drags.size(), Vec3::Zero());
+  std::vector<int> rows(drags.size(), 0);
+  for (int j = 0; j < c; ++j)
+    if (const int m = d.owner[static_cast<std::size_t>(j)]; m >= 0) {
+      centre[static_cast<std::size_t>(m)] += d.rest.row(p + j).transpose();
+      ++rows[static_cast<std::size_t>(m)];
+    }
+  bool dragged = false;
+  for (std::size_t m = 0; m < drags.size(); ++m) {
+    // A handle with no row next to the support moves none of it.
+    drags[m] = rows[m] > 0 ? drag(transforms[m], omega[m], centre[m] / rows[m], d.extent) : Vec3::Zero();
+    if (drags[m].norm() <= 1e-12 * d.extent) drags[m].setZero();
+    dragged = dragged || !drags[m].isZero();
+  }
+  if (!dragged) {
+    d.volumes->start(transforms, d.scale, handle_s, d.x);
+    return;
+  }
+  RowMatrixX3d moved = d.rest;
+  parallel_rows(p, [&](int i) {
+    for (int m = 0; m < n_movable_; ++m) moved.row(i) += d.phi(i, m) * drags[static_cast<std::size_t>(m)].transpose();
+  });
+  for (int j = 0; j < c; ++j)
+    if (const int m = d.owner[static_cast<std::size_t>(j)]; m >= 0)
+      moved.row(p + j) += drags[static_cast<std::size_t>(m)].transpose();
+  d.volumes->start(transforms, d.scale, handle_s, d.x, &moved, drags);
+}
+
 Eigen::Ref<const NonlinearSolver::RowMatrixX3d> NonlinearSolver::free_positions() const {
   return d_->x.topRows(n_free_);
 }
@@ -336,7 +392,7 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
   if (warm && linear && d.has_linear) d.x.topRows(p) += *linear - d.linear;
   d.has_linear = linear != nullptr;
   if (linear) d.linear = *linear;
-  if (d.volumes) d.volumes->start(transforms, d.scale, handle_s, d.x);
+  if (d.volumes) start_volumes(transforms, omega, handle_s);
   d.anderson->reset();
   d.drift.reset();
   d.fitted = d.accelerated = d.residual_checked = false;

@@ -60,7 +60,8 @@ struct NonlinearOptions {
   // above is the wider one.
   bool smooth_rest = false;
   // Keep the enclosed volume of every closed component with free vertices (times the mean
-  // cube of the handles' scale field), each part of the support restoring what its own
+  // cube of the handles' scale field; a handle dragged rather than turned adds or removes the
+  // volume its drag moves, enclosed_volume.h), each part of the support restoring what its own
   // deformation changed; open meshes are not affected.
   bool preserve_volume = true;
   // Weight of a membrane term (ARAP's energy) added to the global step's k-harmonic one, relative
@@ -124,6 +125,8 @@ class NonlinearSolver final : public IterativeModel {
 
   void fit_rotations();
   void keep_volumes();
+  void start_volumes(std::span<const Eigen::Affine3d> transforms, std::span<const Vec3> omega,
+                     std::span<const double> handle_s);
   void add_membrane(const SupportParts& parts, const std::vector<PartSettings>& settings);
   void arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::MatrixXd& out,
                  const std::vector<OneSided>* targets = nullptr);
