@@ -157,6 +157,11 @@ struct NonlinearSolver::Data {
   Eigen::MatrixXd b1;                // n_inner x 3: rotated minus rest Laplacian coordinates
   RowMatrixX3d last;                 // P x 3: free rows before the last global step
   RowMatrixX3d linear;               // P x 3: linear BCM at the last start's transforms
+  // Per movable handle: the rest centre of its rows next to the support (start_volumes; none:
+  // the handle moves none of it); its drag, and the rest moved by the drags (workspaces).
+  std::vector<Vec3> handle_centre, drags;
+  std::vector<char> handle_near;
+  RowMatrixX3d dragged;
   bool has_linear = false;
   std::optional<EnclosedVolumes> volumes;  // closed components, per support part (with preserve_volume)
   Eigen::MatrixXd grad;              // n_inner x 3: volume gradient (workspace)
@@ -287,6 +292,20 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
     d.volumes.emplace(mesh, rest, local, p, regions, parts.of_row);
     if (d.volumes->count() == 0) d.volumes.reset();
   }
+  d.handle_centre.assign(static_cast<std::size_t>(n_movable_), Vec3::Zero());
+  d.handle_near.assign(static_cast<std::size_t>(n_movable_), 0);
+  d.drags.resize(static_cast<std::size_t>(n_movable_));
+  std::vector<int> near_rows(static_cast<std::size_t>(n_movable_), 0);
+  for (int j = 0; j < c; ++j)
+    if (const int m = d.owner[static_cast<std::size_t>(j)]; m >= 0) {
+      d.handle_centre[static_cast<std::size_t>(m)] += d.rest.row(p + j).transpose();
+      ++near_rows[static_cast<std::size_t>(m)];
+    }
+  for (std::size_t m = 0; m < near_rows.size(); ++m)
+    if (near_rows[m] > 0) {
+      d.handle_centre[m] /= near_rows[m];
+      d.handle_near[m] = 1;
+    }
   d.grad = Eigen::MatrixXd::Zero(d.n_inner, 3);
   d.ac = Eigen::MatrixXd::Zero(p, 3);
   d.b1.resize(d.n_inner, 3);
@@ -303,17 +322,10 @@ void NonlinearSolver::start_volumes(std::span<const Eigen::Affine3d> transforms,
                                     std::span<const double> handle_s) {
   Data& d = *d_;
   const int p = n_free_, c = static_cast<int>(d.owner.size());
-  std::vector<Vec3> drags(static_cast<std::size_t>(n_movable_)), centre(drags.size(), Vec3::Zero());
-  std::vector<int> rows(drags.size(), 0);
-  for (int j = 0; j < c; ++j)
-    if (const int m = d.owner[static_cast<std::size_t>(j)]; m >= 0) {
-      centre[static_cast<std::size_t>(m)] += d.rest.row(p + j).transpose();
-      ++rows[static_cast<std::size_t>(m)];
-    }
+  std::vector<Vec3>& drags = d.drags;
   bool dragged = false;
   for (std::size_t m = 0; m < drags.size(); ++m) {
-    // A handle with no row next to the support moves none of it.
-    drags[m] = rows[m] > 0 ? drag(transforms[m], omega[m], centre[m] / rows[m], d.extent) : Vec3::Zero();
+    drags[m] = d.handle_near[m] ? drag(transforms[m], omega[m], d.handle_centre[m], d.extent) : Vec3::Zero();
     if (drags[m].norm() <= 1e-12 * d.extent) drags[m].setZero();
     dragged = dragged || !drags[m].isZero();
   }
@@ -321,14 +333,15 @@ void NonlinearSolver::start_volumes(std::span<const Eigen::Affine3d> transforms,
     d.volumes->start(transforms, d.scale, handle_s, d.x);
     return;
   }
-  RowMatrixX3d moved = d.rest;
+  d.dragged = d.rest;
   parallel_rows(p, [&](int i) {
-    for (int m = 0; m < n_movable_; ++m) moved.row(i) += d.phi(i, m) * drags[static_cast<std::size_t>(m)].transpose();
+    for (int m = 0; m < n_movable_; ++m)
+      d.dragged.row(i) += d.phi(i, m) * drags[static_cast<std::size_t>(m)].transpose();
   });
   for (int j = 0; j < c; ++j)
     if (const int m = d.owner[static_cast<std::size_t>(j)]; m >= 0)
-      moved.row(p + j) += drags[static_cast<std::size_t>(m)].transpose();
-  d.volumes->start(transforms, d.scale, handle_s, d.x, &moved, drags);
+      d.dragged.row(p + j) += drags[static_cast<std::size_t>(m)].transpose();
+  d.volumes->start(transforms, d.scale, handle_s, d.x, &d.dragged, drags);
 }
 
 Eigen::Ref<const NonlinearSolver::RowMatrixX3d> NonlinearSolver::free_positions() const {
