@@ -6,7 +6,7 @@
 // weighted max(0, -ln sigma_min)) and its share of area halved, the largest dihedral increase, the volume ratio
 // (closed meshes), iterations, converged, time. JSON on stdout, a summary table on stderr.
 //   bench_gallery [--quick] [--no-peer] [--out DIR] [--peer-iterations N] [--seed S] [--linear-multires]
-//                 [--config NAME]... [--case TEXT] [--mesh FILE]... [--assimp] [--drags]
+//                 [--config NAME]... [--case TEXT] [--mesh FILE]... [--assimp] [--drags | --scales | --bumps]
 // --out writes each case's rest and deformed meshes (OFF) for scripts/gallery.sh's contact sheet, and the
 // edit file of the Freeform run written (`freeform deform CASE-rest.off --edit CASE.edit.json` repeats it).
 // --mesh: instead of the gallery's meshes, the same limb edits (3 limbs, support radius 0.2 of the
@@ -15,7 +15,9 @@
 // (/usr/share/assimp/models, or FREEFORM_ASSIMP_DIR) with at least 300 vertices.
 // --drags: the limbs' handles moved without turning (a translate gizmo's edits; drag_cases): each
 // dragged sideways by 40-100 % of the limb's length, the first also pushed toward the body by
-// 20-40 %, instead of the bends, twists and pulls; no survey shapes.
+// 20-40 %, instead of the bends, twists and pulls; no survey shapes. --scales: the limbs' handles
+// scaled about their centres instead (scale_cases). --bumps: discs of the surface pulled out or
+// pushed in along their normal (bump_cases).
 // --linear-multires: the linear model's multiresolution instead, both encodings (vertex frames,
 // normal displacement) on the same cases with their rotations scaled to a third (edits linear
 // BCM is made for) and on surface patches, judged by the same counts plus the detail heights
@@ -197,7 +199,8 @@ struct Options {
   std::string only;                  // --case TEXT: only the cases whose name contains it
   std::vector<std::string> meshes;   // --mesh FILE (repeatable): limb edits on these files only
   bool assimp = false;               // --assimp: limb edits on assimp-testmodels' files
-  bool drags = false;                // --drags: the limbs dragged sideways instead (drag_cases)
+  // Which edits: the limbs bent, twisted and pulled (limb_cases), or --drags, --scales, --bumps.
+  test::CaseMaker family = test::limb_cases;
 };
 
 Options parse(int argc, char** argv) {
@@ -229,7 +232,11 @@ Options parse(int argc, char** argv) {
     else if (a == "--assimp")
       o.assimp = true;
     else if (a == "--drags")
-      o.drags = true;
+      o.family = test::drag_cases;
+    else if (a == "--scales")
+      o.family = test::scale_cases;
+    else if (a == "--bumps")
+      o.family = test::bump_cases;
     else
       throw UsageError("unknown option " + a);
   }
@@ -268,7 +275,7 @@ std::vector<Shape> file_gallery(const Options& o) {
       if (mesh.n_vertices() < kMinFileVertices) continue;
       const std::filesystem::path path(file);
       const std::string label = path.parent_path().filename().string() + "-" + path.filename().string();
-      std::vector<Shape> limbs = (o.drags ? test::drag_cases : test::limb_cases)(label, mesh, 3, 0.2, rng);
+      std::vector<Shape> limbs = o.family(label, mesh, 3, 0.2, rng);
       if (limbs.empty()) std::fprintf(stderr, "gallery: %s: no limb found, skipped\n", file.c_str());
       for (Shape& s : limbs) cases.push_back(std::move(s));
     } catch (const std::exception& e) {
@@ -282,7 +289,7 @@ std::vector<Shape> gallery(const Options& o) {
   if (!o.meshes.empty() || o.assimp) return file_gallery(o);
   std::vector<Shape> cases;
   const std::filesystem::path dir = freeform::bench::mesh_dir();
-  if (!o.drags) {
+  if (o.family == test::limb_cases) {
     cases.push_back(test::flat_cylinder_bend());
     cases.push_back(test::bar_twist());
     cases.push_back(test::cylinder_bend());
@@ -314,8 +321,7 @@ std::vector<Shape> gallery(const Options& o) {
     const Mesh mesh = Mesh::from_soup(soup);
     const std::string label =
         src.subdivide > 0 ? std::string(src.name) + "-sub" + std::to_string(src.subdivide) : src.name;
-    for (Shape& s : (o.drags ? test::drag_cases : test::limb_cases)(label, mesh, src.limbs, src.radius, rng))
-      cases.push_back(std::move(s));
+    for (Shape& s : o.family(label, mesh, src.limbs, src.radius, rng)) cases.push_back(std::move(s));
   }
   return cases;
 }

@@ -3,7 +3,9 @@
 // around an extremity (farthest-point samples of the edge-path distance) as the support and its
 // inner third as the handle; the limb's axis runs from the ball's rim to the handle, and the
 // handle is bent away from the body about the rim, twisted about the axis, or pulled along it;
-// drag_cases() moves it sideways instead, its orientation kept, as a translate gizmo does.
+// drag_cases() moves it sideways instead, its orientation kept, as a translate gizmo does;
+// scale_cases() scales it about its centre, as a scale gizmo does; bump_cases() pulls a disc of
+// the surface away from the body or pushes it in, the classic freeform edit.
 #pragma once
 
 #include "survey_shapes.h"
@@ -17,7 +19,7 @@
 
 namespace freeform::test {
 
-enum class LimbEdit { Bend, Twist, Pull, Drag };
+enum class LimbEdit { Bend, Twist, Pull, Drag, Scale };
 
 inline Vec3 centroid(const Mesh& mesh) {
   Vec3 c = Vec3::Zero();
@@ -88,9 +90,12 @@ inline Vec3 away_from_body(const Mesh& mesh, const Limb& l) {
 }
 
 // Bend about the rim (the handle swings away from the body's centroid), twist about the axis,
-// pull along it, or drag the handle sideways (away from the body, not turned) by `amount`
-// (degrees; for a pull or a drag the fraction of the limb's length).
+// pull along it, drag the handle sideways (away from the body, not turned) or scale it about its
+// centre by `amount` (degrees; for a pull or a drag the fraction of the limb's length; for a
+// scale the factor).
 inline Eigen::Affine3d limb_transform(const Mesh& mesh, const Limb& l, LimbEdit kind, double amount) {
+  if (kind == LimbEdit::Scale)
+    return Eigen::Translation3d(l.tip) * Eigen::Scaling(amount) * Eigen::Translation3d(-l.tip);
   if (kind == LimbEdit::Pull) return Eigen::Affine3d(Eigen::Translation3d(amount * (l.tip - l.rim)));
   if (kind == LimbEdit::Twist) return rotation_about(l.rim, amount, l.axis);
   const Vec3 away = away_from_body(mesh, l);
@@ -159,6 +164,10 @@ inline std::vector<Shape> limb_cases(const std::string& mesh_name, const Mesh& m
   return out;
 }
 
+// A family of edits on a mesh: (mesh name, mesh, limbs or discs, their radius as a fraction of the
+// diagonal, random numbers) to cases.
+using CaseMaker = std::vector<Shape> (*)(const std::string&, const Mesh&, int, double, std::mt19937&);
+
 // The same limbs moved without turning the handle, as a translate gizmo does: each dragged
 // sideways (away from the body) by 40-100 % of its length, the first also pushed toward the
 // body along its axis by 20-40 % (a compression). The support must find its own rotations: the
@@ -177,6 +186,71 @@ inline std::vector<Shape> drag_cases(const std::string& mesh_name, const Mesh& m
     const int c = push(rng);
     out.push_back(limb_case(stem + "-push" + std::to_string(c), mesh, {&limbs[i]},
                             {limb_transform(mesh, limbs[i], LimbEdit::Pull, -c / 100.0)}));
+  }
+  return out;
+}
+
+// The same limbs' handles scaled about their centres, as a scale gizmo does: each grown by 1.3-2,
+// the first also shrunk to 0.5-0.75. The support tapers between the scaled handle and the rim.
+inline std::vector<Shape> scale_cases(const std::string& mesh_name, const Mesh& mesh, int n_limbs, double radius_frac,
+                                      std::mt19937& rng) {
+  const std::vector<Limb> limbs = limbs_of(mesh, n_limbs, radius_frac);
+  std::uniform_int_distribution<int> grow(130, 200), shrink(50, 75);
+  std::vector<Shape> out;
+  for (std::size_t i = 0; i < limbs.size(); ++i) {
+    const std::string stem = mesh_name + "-limb" + std::to_string(i);
+    const int g = grow(rng);
+    out.push_back(limb_case(stem + "-grow" + std::to_string(g), mesh, {&limbs[i]},
+                            {limb_transform(mesh, limbs[i], LimbEdit::Scale, g / 100.0)}));
+    if (i > 0) continue;
+    const int s = shrink(rng);
+    out.push_back(limb_case(stem + "-shrink" + std::to_string(s), mesh, {&limbs[i]},
+                            {limb_transform(mesh, limbs[i], LimbEdit::Scale, s / 100.0)}));
+  }
+  return out;
+}
+
+// The faces whose corners are all in `region` (sorted): the sum of their normals times twice their
+// areas, and twice their total area.
+inline std::pair<Vec3, double> region_normal(const Mesh& mesh, const std::vector<Vertex>& region) {
+  Vec3 n = Vec3::Zero();
+  double area = 0;
+  auto in = [&](Vertex v) { return std::binary_search(region.begin(), region.end(), v); };
+  for (Face f : mesh.faces()) {
+    const auto [a, b, c] = mesh.vertices(f);
+    if (!in(a) || !in(b) || !in(c)) continue;
+    const Vec3 twice = (mesh.position(b) - mesh.position(a)).cross(mesh.position(c) - mesh.position(a));
+    n += twice, area += twice.norm();
+  }
+  return {n, area};
+}
+
+// Discs of the surface (around seeded vertices: geodesic balls of half `radius_frac` of the
+// diagonal, a limb's radius halved, their inner third the handle), the handle moved along the
+// disc's normal without turning: `n_bumps` pulled out by 50-120 % of the disc's radius, and a
+// dent pushed in by 20-40 %. A ball that is not a nearly flat disc (its mean normal under half its
+// area: it wraps round a thin part) or reaches half the mesh is skipped.
+inline std::vector<Shape> bump_cases(const std::string& mesh_name, const Mesh& mesh, int n_bumps, double radius_frac,
+                                     std::mt19937& rng) {
+  Vec3 lo = mesh.position(Vertex(0)), hi = lo;
+  for (Vertex v : mesh.vertices()) lo = lo.cwiseMin(mesh.position(v)), hi = hi.cwiseMax(mesh.position(v));
+  const double radius = 0.5 * radius_frac * (hi - lo).norm();
+  std::uniform_int_distribution<int> vertex(0, mesh.n_vertices() - 1), out_by(50, 120), in_by(20, 40);
+  std::vector<Shape> out;
+  for (int tries = 0, made = 0; tries < 20 * (n_bumps + 1) && made < n_bumps + 1; ++tries) {
+    const Vec3 c = mesh.position(Vertex(vertex(rng)));
+    const int amount = made < n_bumps ? out_by(rng) : -in_by(rng);
+    Limb l;
+    l.support = select_geodesic(mesh, c, radius, "support");
+    l.handle = select_geodesic(mesh, c, radius / 3.0, "handle");
+    if (l.support.size() * 2 > static_cast<std::size_t>(mesh.n_vertices()) || l.handle.size() < 3) continue;
+    const auto [n, area] = region_normal(mesh, l.support);
+    if (n.norm() < 0.5 * area) continue;
+    const Vec3 move = amount / 100.0 * radius * region_normal(mesh, l.handle).first.normalized();
+    const std::string name =
+        mesh_name + (amount > 0 ? "-bump" : "-dent") + std::to_string(made) + "-" + std::to_string(std::abs(amount));
+    out.push_back(limb_case(name, mesh, {&l}, {Eigen::Affine3d(Eigen::Translation3d(move))}));
+    ++made;
   }
   return out;
 }

@@ -74,9 +74,7 @@ TEST(EnclosedVolumes, VolumeFollowsTheHandleGivenToStart) {
   Rows x = s.x;
   for (Eigen::Index i = s.n_free; i < x.rows(); ++i) x.row(i) = (t * Vec3(x.row(i).transpose())).transpose();
   for (Eigen::Index i = 0; i < s.n_free; ++i) x(i, 2) *= 1.3;  // the free rows stretched up
-  const std::vector<double> scale(static_cast<std::size_t>(x.rows()), 1.0);
-  const double handle_scale[] = {1.0};
-  v.start(std::span(&t, 1), scale, handle_scale, x);
+  v.start(std::span(&t, 1), x);
   double expected = 0.0;
   for (Face f : s.mesh.faces()) {
     Vec3 p[3];
@@ -99,9 +97,7 @@ TEST(EnclosedVolumes, UnscaledTargetIsTheRestVolumeExactly) {
       const HalfSphere s = sphere(0.5 + 0.37 * k, Vec3(0.1 * k, -0.3, 0.7), subdivisions);
       EnclosedVolumes v(s.mesh, s.mesh.positions(), s.local, s.n_free, s.regions);
       const Eigen::Affine3d identity = Eigen::Affine3d::Identity();
-      const std::vector<double> scale(static_cast<std::size_t>(s.x.rows()), 1.0);
-      const double handle_scale[] = {1.0};
-      v.start(std::span(&identity, 1), scale, handle_scale, s.x);
+      v.start(std::span(&identity, 1), s.x);
       const Eigen::MatrixXd u = s.x.topRows(s.n_free);
       EXPECT_EQ(v.multiplier(0, s.x, u), 0.0) << "subdivisions " << subdivisions << ", sphere " << k;
     }
@@ -166,9 +162,7 @@ TEST(EnclosedVolumes, EachSupportPartKeepsItsOwnVolume) {
     const Vec3 p = x.row(i).transpose();
     x.row(i) = (i < s.n_free ? Vec3(p + 0.1 * p.z() * p) : Vec3(t[part] * p)).transpose();
   }
-  const std::vector<double> scale(static_cast<std::size_t>(x.rows()), 1.0);
-  const double handle_scale[] = {1.0, 1.0};
-  v.start(t, scale, handle_scale, x);
+  v.start(t, x);
   double whole = 0.0;
   for (Face f : s.mesh.faces()) {
     Vec3 p[3];
@@ -199,7 +193,7 @@ TEST(EnclosedVolumes, EachSupportPartKeepsItsOwnVolume) {
   shared.back() = 0;  // a row of the lower handle in the upper part
   for (const std::vector<int>& parts : {std::vector<int>(), shared}) {
     EnclosedVolumes one(s.mesh, s.mesh.positions(), s.local, s.n_free, s.regions, parts);
-    one.start(t, scale, handle_scale, x);
+    one.start(t, x);
     ASSERT_EQ(one.count(), 1);
     EXPECT_NEAR(one.volume(0, x) * std::pow(one.scale(0), 3), whole, 1e-12);
   }
@@ -223,7 +217,7 @@ TEST(EnclosedVolumes, GradientMatchesFiniteDifferences) {
     }
 }
 
-TEST(EnclosedVolumes, MultiplierReachesTheTargetOfTheScaleField) {
+TEST(EnclosedVolumes, MultiplierReachesTheTargetShapesVolume) {
   const HalfSphere s = sphere(1.0, Vec3::Zero());
   EnclosedVolumes v(s.mesh, s.mesh.positions(), s.local, s.n_free, s.regions);
   const double rest = v.volume(0, s.x);
@@ -236,19 +230,26 @@ TEST(EnclosedVolumes, MultiplierReachesTheTargetOfTheScaleField) {
   y.topRows(s.n_free) += lambda * u;
   EXPECT_NEAR(v.volume(0, y) / rest, 1.0, 1e-10);
   EXPECT_EQ(v.multiplier(0, s.x, u), 0.0);  // at rest nothing to do
-  // A handle and free part scaled by 1.5 (the fixed half by 1): the target is the rest volume
-  // times the vertices' mean cube of the scale.
+  // The rows (handle and free half) scaled by 1.5 as the target shape (the fixed half stays):
+  // the target is that shape's volume, a plain face sum.
   const Eigen::Affine3d t(Eigen::Scaling(1.5));
-  std::vector<double> scale(static_cast<std::size_t>(s.x.rows()), 1.5);
-  const double handle_scale[] = {1.5};
-  v.start(std::span(&t, 1), scale, handle_scale, s.x);
-  int fixed = 0;
-  for (Vertex w : s.mesh.vertices()) fixed += s.local[w] < 0;
-  const double mean_cube = (fixed + 3.375 * static_cast<double>(s.x.rows())) / static_cast<double>(fixed + s.x.rows());
+  const Rows scaled = 1.5 * s.x;
+  v.start(std::span(&t, 1), s.x, &scaled, std::span(&t, 1));
+  double expected = 0.0;
+  for (Face f : s.mesh.faces()) {
+    Vec3 p[3];
+    const std::array<Vertex, 3> c = s.mesh.vertices(f);
+    for (std::size_t k = 0; k < 3; ++k) {
+      const int l = s.local[c[k]];
+      p[k] = l >= 0 ? Vec3(scaled.row(l).transpose()) : s.mesh.position(c[k]);
+    }
+    expected += p[0].dot(p[1].cross(p[2])) / 6.0;
+  }
+  EXPECT_GT(expected / (rest * std::pow(v.scale(0), 3)), 1.5);
   const double l2 = v.multiplier(0, s.x, u);
   y = s.x;
   y.topRows(s.n_free) += l2 * u;
-  EXPECT_NEAR(v.volume(0, y) / rest, mean_cube, 1e-9);
+  EXPECT_NEAR(v.volume(0, y) * std::pow(v.scale(0), 3) / expected, 1.0, 1e-9);
 }
 
 // The multiplier is the root of V(x + lambda u) = target nearest to 0, found here by scanning
@@ -300,9 +301,8 @@ TEST(EnclosedVolumes, MultiplierIsTheRootNearestToZero) {
   int found = 0;
   for (const double scale : {0.6, 0.9, 0.97, 1.02, 1.1, 1.5, 3.0}) {
     const Eigen::Affine3d t(Eigen::Scaling(scale));
-    const std::vector<double> scales(static_cast<std::size_t>(s.x.rows()), scale);
-    const double handle_scale[] = {scale};
-    v.start(std::span(&t, 1), scales, handle_scale, s.x);
+    const Rows scaled = scale * s.x;  // the target shape: the rows and the handle scaled
+    v.start(std::span(&t, 1), s.x, &scaled, std::span(&t, 1));
     // The target from a multiplier at the rest shape along the radial field (exact there).
     Eigen::MatrixXd radial = s.x.topRows(s.n_free);
     Rows r = s.x;

@@ -40,10 +40,9 @@ Quality quality(const Shape& s, const VertexData<Vec3>& p) {
   return q;
 }
 
-// The limb edits of one libcgal-demo mesh (`make`: limb_cases, or drag_cases), drawn as
-// bench_gallery draws a mesh's (seed 37 for this mesh alone, so the angles are not the gallery's
-// own); none when the mesh is missing (a failure where the meshes are required).
-using CaseMaker = std::vector<Shape> (*)(const std::string&, const Mesh&, int, double, std::mt19937&);
+// The limb edits of one libcgal-demo mesh (`make`: limb_cases, drag_cases or scale_cases), drawn
+// as bench_gallery draws a mesh's (seed 37 for this mesh alone, so the angles are not the
+// gallery's own); none when the mesh is missing (a failure where the meshes are required).
 
 std::vector<Shape> mesh_limb_cases(const std::string& name, int limbs, double radius, int subdivisions = 0,
                                    CaseMaker make = limb_cases) {
@@ -208,6 +207,50 @@ TEST(GallerySubset, TranslatedHandlesAgainstArap) {
   for (int k : {0, 1}) {  // in total fewer than ARAP
     EXPECT_LE(t.folds[k], t.peer_folds) << "k = " << k + 2;
     EXPECT_LE(t.collapsed[k], t.peer_collapsed) << "k = " << k + 2;
+  }
+}
+
+// A scaled handle's volume target (docs/nonlinear.md, "Volume"): the bunny's ear (the gallery's
+// first limb, 0.2 of the diagonal) with its end scaled about its centre, k = 2. The volume
+// changes with the scale's sign and by less than the whole limb scaled so would change it:
+// |V - V rest| < |s^3 - 1| V limb, V limb the support's volume closed at its rim. Until
+// 2026-12-07 (docs/nonlinear.md, "What the gallery found", 60) the target was the rest volume
+// times the mean cube of the scale over all the mesh's vertices, as if each vertex held an even
+// share of the volume: the thin ear grown 1.8 times gained 19 % of the whole bunny's volume, 3.4
+// times its bound (now 0.27 of it); shrunk to 0.6 it lost 0.21 of its bound (now 0.35).
+TEST(GallerySubset, ScaledHandleChangesTheVolumeByNoMoreThanItsLimb) {
+  const std::filesystem::path file = cgal_mesh_dir().empty() ? "" : cgal_mesh_dir() / "bunny00.off";
+  if (file.empty() || !std::filesystem::exists(file)) {
+    if (data_required()) ADD_FAILURE() << "bunny00.off missing: run scripts/fetch-data.sh";
+    GTEST_SKIP() << "libcgal-demo meshes not found";
+  }
+  const Mesh mesh = Mesh::from_soup(read_mesh(file.string()).soup);
+  const std::vector<Limb> limbs = limbs_of(mesh, 2, 0.2);
+  ASSERT_FALSE(limbs.empty());
+  const Limb& ear = limbs[0];
+  const auto volume = [&](const VertexData<Vec3>& p, const std::vector<Vertex>* only) {
+    double v = 0.0;
+    for (Face f : mesh.faces()) {
+      const auto [a, b, c] = mesh.vertices(f);
+      const auto in = [&](Vertex x) { return std::binary_search(only->begin(), only->end(), x); };
+      if (only && !(in(a) && in(b) && in(c))) continue;
+      v += (p[a] - ear.rim).dot((p[b] - ear.rim).cross(p[c] - ear.rim)) / 6.0;
+    }
+    return v;
+  };
+  const double rest = volume(mesh.positions(), nullptr), limb = volume(mesh.positions(), &ear.support);
+  for (const double scale : {0.6, 1.8}) {
+    Shape s = limb_case("bunny00-ear", mesh, {&ear}, {limb_transform(mesh, ear, LimbEdit::Scale, scale)});
+    s.edit.settings.order = 2;
+    s.edit.deformation = Deformation::Nonlinear;
+    const EditSolver solver(s.mesh, s.edit);
+    VertexData<Vec3> p = s.mesh.positions();
+    solver.evaluate(solver.transforms(s.edit), p);
+    const double change = volume(p, nullptr) - rest, bound = (scale * scale * scale - 1.0) * limb;
+    std::printf("ear scaled %.1f: volume change %.5f, the limb's bound %.5f (of %.5f)\n", scale, change, bound, rest);
+    EXPECT_TRUE(solver.nonlinear_state()->converged) << "scale " << scale;
+    EXPECT_GT(change / bound, 0.0) << "scale " << scale;
+    EXPECT_LT(change / bound, 1.0) << "scale " << scale;
   }
 }
 

@@ -78,6 +78,11 @@ def test_totals_by_edit_kind(tmp_path):
         # bench_gallery --drags: handles moved without turning.
         {"case": "cow-limb0-drag71", "runs": [run(100, 0, 1, 5, 10.0), run(100, 2, 2, 0, 5.0, "CGAL ARAP")]},
         {"case": "cow-limb0-push30", "runs": [run(100, 3, 4, 5, 10.0), run(100, 1, 0, 0, 5.0, "CGAL ARAP")]},
+        # --scales and --bumps: scaled handles, discs pulled out or pushed in.
+        {"case": "cow-limb0-grow150", "runs": [run(100, 1, 0, 5, 10.0), run(100, 2, 0, 0, 5.0, "CGAL ARAP")]},
+        {"case": "cow-limb0-shrink60", "runs": [run(100, 0, 2, 5, 10.0), run(100, 0, 3, 0, 5.0, "CGAL ARAP")]},
+        {"case": "cow-bump0-80", "runs": [run(100, 1, 1, 5, 10.0), run(100, 4, 0, 0, 5.0, "CGAL ARAP")]},
+        {"case": "cow-dent1-30", "runs": [run(100, 0, 0, 5, 10.0), run(100, 0, 1, 0, 5.0, "CGAL ARAP")]},
     ]
     out = summarize(tmp_path, cases)
     kinds = table(out.split("By edit kind (cases: folded edges / collapsed faces)\n\n")[1])
@@ -87,7 +92,11 @@ def test_totals_by_edit_kind(tmp_path):
     assert kinds["push"] == ["1: 3 / 4", "1: 1 / 0"]
     assert kinds["other"] == ["1: 0 / 0", "1: 1 / 0"]
     assert "bend" not in kinds and "pull" not in kinds
-    assert list(kinds)[-3:] == ["drag", "push", "other"]  # in the order of KINDS
+    assert kinds["grow"] == ["1: 1 / 0", "1: 2 / 0"]
+    assert kinds["shrink"] == ["1: 0 / 2", "1: 0 / 3"]
+    assert kinds["bump"] == ["1: 1 / 1", "1: 4 / 0"]
+    assert kinds["dent"] == ["1: 0 / 0", "1: 0 / 1"]
+    assert list(kinds)[-7:] == ["drag", "push", "grow", "shrink", "bump", "dent", "other"]  # in the order of KINDS
 
 
 def test_saved_peer_runs_compare_like_the_run_itself(tmp_path):

@@ -215,33 +215,27 @@ Vec3 EnclosedVolumes::corner(const Part& part, int index, const RowMatrixX3d& x)
          part.inv_scale;
 }
 
-void EnclosedVolumes::start(std::span<const Eigen::Affine3d> transforms, std::span<const double> scale,
-                            std::span<const double> handle_scale, const RowMatrixX3d& x, const RowMatrixX3d* dragged,
-                            std::span<const Vec3> drags) {
+void EnclosedVolumes::start(std::span<const Eigen::Affine3d> transforms, const RowMatrixX3d& x,
+                            const RowMatrixX3d* dragged, std::span<const Eigen::Affine3d> moves) {
   for (Part& part : parts_) {
-    double base = part.rest_volume;
+    // Without drags or scalings the target is the rest volume to the bit, so the rest stays a
+    // fixed point.
+    part.target = part.rest_volume;
     if (dragged) {
       for (std::size_t i = 0; i < part.extra.size(); ++i) {
         const int m = part.extra_owner[i];
-        part.extra_now[i] = part.extra_rest[i] + (m >= 0 ? drags[static_cast<std::size_t>(m)] : Vec3::Zero());
+        part.extra_now[i] = m >= 0 ? Vec3(moves[static_cast<std::size_t>(m)] * part.extra_rest[i]) : part.extra_rest[i];
       }
       scale_extras(part);
-      base = (fixed_sum(part, *dragged) + moving_sum(part, *dragged)) / 6.0;
+      part.target = (fixed_sum(part, *dragged) + moving_sum(part, *dragged)) / 6.0;
     }
-    double cubes = 0.0;
     for (std::size_t i = 0; i < part.extra.size(); ++i) {
       const int m = part.extra_owner[i];
       part.extra_now[i] =
           m >= 0 ? Vec3(transforms[static_cast<std::size_t>(m)] * part.extra_rest[i]) : part.extra_rest[i];
-      const double s = m >= 0 ? handle_scale[static_cast<std::size_t>(m)] : 1.0;
-      cubes += s * s * s;
     }
     scale_extras(part);
-    for (int r : part.local_rows) cubes += std::pow(scale[static_cast<std::size_t>(r)], 3);
     part.fixed_sum = fixed_sum(part, x);
-    // The mean cube first: it is exactly 1 when no handle is scaled, so the target is the rest
-    // volume to the bit (rest_volume * n / n is not, for some n) and the rest stays a fixed point.
-    part.target = base * (cubes / static_cast<double>(part.extra.size() + part.local_rows.size()));
   }
 }
 

@@ -2,9 +2,9 @@
 // rotation-aware models keep edge lengths, so a twisted bar necks (ARAP keeps 0.72 of its
 // volume); the model adds lambda * u, u the smooth response of its own operator to the volume
 // gradient, with lambda chosen so that the volume is the target: the rest volume, or where the
-// handles are dragged (not only turned) the volume of the rest moved by those drags alone (a
-// limb pushed in loses what it must, one pulled out keeps its thickness), times the mean cube
-// of the scale field (1 unless a handle is scaled).
+// handles are dragged (not only turned) or scaled, the volume of the rest moved by those drags
+// and scalings alone (a limb pushed in loses what it must, one pulled out keeps its thickness,
+// one whose end is shrunk tapers).
 #pragma once
 
 #include "freeform/mesh/mesh.h"
@@ -38,14 +38,12 @@ class EnclosedVolumes {
 
   // For one frame: places the vertices the model does not hold (handle interiors, fixed
   // parts), sums the faces without a free corner at x (its constrained rows: this frame's) and
-  // sets the targets. scale: per local row (free: the guidance's; the rest: their handle's);
-  // handle_scale: per movable handle. dragged (optional): the rest moved by the handles' drags
-  // (every local row), drags[m] handle m's (its vertices without a row move by it); the targets
+  // sets the targets. dragged (optional): the rest moved by the handles' drags and scalings
+  // (every local row), moves[m] handle m's (its vertices without a row move by it); the targets
   // are then that shape's volumes instead of the rest's. Until the next start, volume(),
   // gradient() and multiplier() take positions whose constrained rows are those of x.
-  void start(std::span<const Eigen::Affine3d> transforms, std::span<const double> scale,
-             std::span<const double> handle_scale, const RowMatrixX3d& x, const RowMatrixX3d* dragged = nullptr,
-             std::span<const Vec3> drags = {});
+  void start(std::span<const Eigen::Affine3d> transforms, const RowMatrixX3d& x, const RowMatrixX3d* dragged = nullptr,
+             std::span<const Eigen::Affine3d> moves = {});
 
   // Volumes and gradients are computed on the component's positions centred and scaled by a
   // power of two (exact), so that they neither overflow nor underflow at any size:

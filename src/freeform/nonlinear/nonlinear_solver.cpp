@@ -90,15 +90,17 @@ void rotation_and_scale(const Eigen::Matrix3d& l, Eigen::Quaterniond& q, double&
   scale = std::cbrt(sv(0)) * std::cbrt(sv(1)) * std::cbrt(sv(2));
 }
 
-// What a handle's rigid motion T (x -> R x + t, rotation vector w) drags, for the volume target
-// (start_volumes). A turn keeps a limb's volume; it turns about its screw axis (Chasles), and
+// What a handle's motion T (x -> s R x + t, rotation vector w, scale s) drags, for the volume
+// target (start_volumes); its scale about the handle's centre h is set apart, leaving the rigid
+// motion x -> R (x - h) + T(h). A turn keeps a limb's volume; it turns about its screw axis (Chasles), and
 // the slide along that axis, t's part along w, moves the handle into or out of the body. Where
 // that axis passes far from the handle (beyond the support's extent: a small turn about a far
 // axis, the accident of a translate gizmo), the motion is a translation: the handle's whole move
 // T(h) - h drags (h its centre), so the drag does not jump at w = 0, where it is t. Blended
 // between one and two extents; the same in any coordinates.
-Vec3 drag(const Eigen::Affine3d& motion, const Vec3& w, const Vec3& h, double extent) {
-  const Vec3 t = motion.translation(), move = motion * h - h;
+Vec3 drag(const Eigen::Affine3d& motion, const Vec3& w, double s, const Vec3& h, double extent) {
+  const Vec3 move = motion * h - h;
+  const Vec3 t = s == 1.0 ? Vec3(motion.translation()) : Vec3(motion * h - motion.linear() * h / s);
   const double angle = w.norm();
   if (!(angle > 0.0)) return t;
   const Vec3 axis = w / angle;
@@ -158,8 +160,10 @@ struct NonlinearSolver::Data {
   RowMatrixX3d last;                 // P x 3: free rows before the last global step
   RowMatrixX3d linear;               // P x 3: linear BCM at the last start's transforms
   // Per movable handle: the rest centre of its rows next to the support (start_volumes; none:
-  // the handle moves none of it); its drag, and the rest moved by the drags (workspaces).
-  std::vector<Vec3> handle_centre, drags;
+  // the handle moves none of it); its drag and scale about that centre, and the rest moved by
+  // them (workspaces).
+  std::vector<Vec3> handle_centre;
+  std::vector<Eigen::Affine3d> moves;
   std::vector<char> handle_near;
   RowMatrixX3d dragged;
   bool has_linear = false;
@@ -294,7 +298,7 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
   }
   d.handle_centre.assign(static_cast<std::size_t>(n_movable_), Vec3::Zero());
   d.handle_near.assign(static_cast<std::size_t>(n_movable_), 0);
-  d.drags.resize(static_cast<std::size_t>(n_movable_));
+  d.moves.resize(static_cast<std::size_t>(n_movable_));
   std::vector<int> near_rows(static_cast<std::size_t>(n_movable_), 0);
   for (int j = 0; j < c; ++j)
     if (const int m = d.owner[static_cast<std::size_t>(j)]; m >= 0) {
@@ -316,32 +320,42 @@ NonlinearSolver::NonlinearSolver(const Mesh& mesh, const Regions& regions, BcmSo
 NonlinearSolver::~NonlinearSolver() = default;
 
 // The volume targets: the rest's, or where a handle is dragged (drag() above the round-off of a
-// turn's) the rest moved by the drags, blended through the support by the guidance weights (a
-// shear across a limb keeps its volume; pushed in, it loses what it must).
+// turn's) or scaled, the rest moved by the drags and scaled about the handles' centres, blended
+// through the support by the guidance weights (a shear across a limb keeps its volume; pushed in,
+// it loses what it must; a limb whose end shrinks tapers).
 void NonlinearSolver::start_volumes(std::span<const Eigen::Affine3d> transforms, std::span<const Vec3> omega,
                                     std::span<const double> handle_s) {
   Data& d = *d_;
   const int p = n_free_, c = static_cast<int>(d.owner.size());
-  std::vector<Vec3>& drags = d.drags;
-  bool dragged = false;
-  for (std::size_t m = 0; m < drags.size(); ++m) {
-    drags[m] = d.handle_near[m] ? drag(transforms[m], omega[m], d.handle_centre[m], d.extent) : Vec3::Zero();
-    if (drags[m].norm() <= 1e-12 * d.extent) drags[m].setZero();
-    dragged = dragged || !drags[m].isZero();
+  std::vector<Eigen::Affine3d>& moves = d.moves;
+  bool moved = false;
+  for (std::size_t m = 0; m < moves.size(); ++m) {
+    const Vec3& h = d.handle_centre[m];
+    Vec3 t = d.handle_near[m] ? drag(transforms[m], omega[m], handle_s[m], h, d.extent) : Vec3::Zero();
+    if (t.norm() <= 1e-12 * d.extent) t.setZero();
+    const double s = d.handle_near[m] && std::abs(handle_s[m] - 1.0) > 1e-12 ? handle_s[m] : 1.0;
+    // x -> x + t + (s - 1)(x - h), exactly x + t where s is 1.
+    moves[m].linear() = s * Eigen::Matrix3d::Identity();
+    moves[m].translation() = t + (1.0 - s) * h;
+    moved = moved || !t.isZero() || s != 1.0;
   }
-  if (!dragged) {
-    d.volumes->start(transforms, d.scale, handle_s, d.x);
+  if (!moved) {
+    d.volumes->start(transforms, d.x);
     return;
   }
+  const auto move = [&](int m, const Vec3& r) {
+    const Eigen::Affine3d& a = moves[static_cast<std::size_t>(m)];
+    return Vec3(a.translation() + (a(0, 0) - 1.0) * r);
+  };
   d.dragged = d.rest;
   parallel_rows(p, [&](int i) {
-    for (int m = 0; m < n_movable_; ++m)
-      d.dragged.row(i) += d.phi(i, m) * drags[static_cast<std::size_t>(m)].transpose();
+    const Vec3 r = d.rest.row(i).transpose();
+    for (int m = 0; m < n_movable_; ++m) d.dragged.row(i) += d.phi(i, m) * move(m, r).transpose();
   });
   for (int j = 0; j < c; ++j)
     if (const int m = d.owner[static_cast<std::size_t>(j)]; m >= 0)
-      d.dragged.row(p + j) += drags[static_cast<std::size_t>(m)].transpose();
-  d.volumes->start(transforms, d.scale, handle_s, d.x, &d.dragged, drags);
+      d.dragged.row(p + j) += move(m, d.rest.row(p + j).transpose()).transpose();
+  d.volumes->start(transforms, d.x, &d.dragged, moves);
 }
 
 Eigen::Ref<const NonlinearSolver::RowMatrixX3d> NonlinearSolver::free_positions() const {
