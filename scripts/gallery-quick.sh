@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # The gallery's quick loop (docs/nonlinear.md, "Gallery"): Freeform alone on the gallery's cases,
 # or with --assimp on the assimp-testmodels files, compared with CGAL's ARAP runs of the same cases
-# stored in data/gallery/ (each case checked to be the same edit: gallery-summary.py --peer-from).
+# stored in data/gallery/ (each case checked to be the same edit: gallery-summary.py --peer-from);
+# with --scales or --bumps (bench_gallery's edit families) against those families' stored runs.
 # A minute for --config k2 --config k3, against 40 min for a run with the peer (scripts/gallery.sh).
 #   scripts/gallery-quick.sh [OUT_DIR=build/gallery-quick] [bench_gallery options, e.g. --config k2 --assimp]
 # Writes OUT_DIR/gallery.json and prints the summary. When the cases change, store the peer again:
-#   bench_gallery --config none [--assimp] > peer.json
-#   scripts/gallery-summary.py peer.json --save-peer data/gallery/cgal-arap[-assimp].json
+#   bench_gallery --config k2 [--assimp | --scales | --bumps] > peer.json
+#   scripts/gallery-summary.py peer.json --save-peer data/gallery/cgal-arap[-assimp|-scales|-bumps].json
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -21,6 +22,9 @@ peer=data/gallery/cgal-arap.json
 for option in "$@"; do
   case "$option" in
     --assimp) peer=data/gallery/cgal-arap-assimp.json ;;
+    --scales) peer=data/gallery/cgal-arap-scales.json ;;
+    --bumps) peer=data/gallery/cgal-arap-bumps.json ;;
+    --drags) echo "gallery-quick: --drags: no stored peer; run scripts/gallery.sh OUT --drags" >&2; exit 2 ;;
     --mesh) echo "gallery-quick: --mesh: no stored peer for other files; run bench_gallery with the peer" >&2; exit 2 ;;
   esac
 done
