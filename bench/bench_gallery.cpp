@@ -6,7 +6,7 @@
 // weighted max(0, -ln sigma_min)) and its share of area halved, the largest dihedral increase, the volume ratio
 // (closed meshes), iterations, converged, time. JSON on stdout, a summary table on stderr.
 //   bench_gallery [--quick] [--no-peer] [--out DIR] [--peer-iterations N] [--seed S] [--linear-multires]
-//                 [--config NAME]... [--case TEXT] [--mesh FILE]... [--assimp] [--drags | --scales | --bumps]
+//                 [--config NAME]... [--case TEXT] [--mesh FILE]... [--assimp] [--drags | --scales | --turns | --bumps]
 // --out writes each case's rest and deformed meshes (OFF) for scripts/gallery.sh's contact sheet, and the
 // edit file of the Freeform run written (`freeform deform CASE-rest.off --edit CASE.edit.json` repeats it).
 // --mesh: instead of the gallery's meshes, the same limb edits (3 limbs, support radius 0.2 of the
@@ -16,7 +16,8 @@
 // --drags: the limbs' handles moved without turning (a translate gizmo's edits; drag_cases): each
 // dragged sideways by 40-100 % of the limb's length, the first also pushed toward the body by
 // 20-40 %, instead of the bends, twists and pulls; no survey shapes. --scales: the limbs' handles
-// scaled about their centres instead (scale_cases). --bumps: discs of the surface pulled out or
+// scaled about their centres instead (scale_cases); --turns: turned in place about their centres
+// (turn_cases). --bumps: discs of the surface pulled out or
 // pushed in along their normal (bump_cases).
 // --linear-multires: the linear model's multiresolution instead, both encodings (vertex frames,
 // normal displacement) on the same cases with their rotations scaled to a third (edits linear
@@ -199,7 +200,7 @@ struct Options {
   std::string only;                  // --case TEXT: only the cases whose name contains it
   std::vector<std::string> meshes;   // --mesh FILE (repeatable): limb edits on these files only
   bool assimp = false;               // --assimp: limb edits on assimp-testmodels' files
-  // Which edits: the limbs bent, twisted and pulled (limb_cases), or --drags, --scales, --bumps.
+  // Which edits: the limbs bent, twisted and pulled (limb_cases), or --drags, --scales, --turns, --bumps.
   test::CaseMaker family = test::limb_cases;
 };
 
@@ -235,6 +236,8 @@ Options parse(int argc, char** argv) {
       o.family = test::drag_cases;
     else if (a == "--scales")
       o.family = test::scale_cases;
+    else if (a == "--turns")
+      o.family = test::turn_cases;
     else if (a == "--bumps")
       o.family = test::bump_cases;
     else

@@ -2,12 +2,12 @@
 # The gallery's quick loop (docs/nonlinear.md, "Gallery"): Freeform alone on the gallery's cases,
 # or with --assimp on the assimp-testmodels files, compared with CGAL's ARAP runs of the same cases
 # stored in data/gallery/ (each case checked to be the same edit: gallery-summary.py --peer-from);
-# with --scales or --bumps (bench_gallery's edit families) against those families' stored runs.
+# with --scales, --turns or --bumps (bench_gallery's edit families) against those families' stored runs.
 # A minute for --config k2 --config k3, against 40 min for a run with the peer (scripts/gallery.sh).
 #   scripts/gallery-quick.sh [OUT_DIR=build/gallery-quick] [bench_gallery options, e.g. --config k2 --assimp]
 # Writes OUT_DIR/gallery.json and prints the summary. When the cases change, store the peer again:
-#   bench_gallery --config k2 [--assimp | --scales | --bumps] > peer.json
-#   scripts/gallery-summary.py peer.json --save-peer data/gallery/cgal-arap[-assimp|-scales|-bumps].json
+#   bench_gallery --config k2 [--assimp | --scales | --turns | --bumps] > peer.json
+#   scripts/gallery-summary.py peer.json --save-peer data/gallery/cgal-arap[-assimp|-scales|-turns|-bumps].json
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -24,6 +24,7 @@ for option in "$@"; do
     --assimp) peer=data/gallery/cgal-arap-assimp.json ;;
     --scales) peer=data/gallery/cgal-arap-scales.json ;;
     --bumps) peer=data/gallery/cgal-arap-bumps.json ;;
+    --turns) peer=data/gallery/cgal-arap-turns.json ;;
     --drags) echo "gallery-quick: --drags: no stored peer; run scripts/gallery.sh OUT --drags" >&2; exit 2 ;;
     --mesh) echo "gallery-quick: --mesh: no stored peer for other files; run bench_gallery with the peer" >&2; exit 2 ;;
   esac

@@ -2,7 +2,7 @@
 """Summarizes bench_gallery's JSON: per method the totals of folded edges and collapsed faces,
 the mean over cases of the support's compressive strain and halved area, unconverged runs, the slowest run, the
 iterations, the runs over issue 37's time goal (a solve over 1 s at up to 10,000 free vertices, over 10 s above),
-the same totals per edit kind (bends, twists, pulls, several limbs, drags, pushes, scaled handles, bumps, dents), and per Freeform method the cases worse than the peer
+the same totals per edit kind (bends, twists, pulls, several limbs, drags, pushes, scaled handles, turns in place, bumps, dents), and per Freeform method the cases worse than the peer
 (CGAL ARAP) by more than 2 folded edges or 2 collapsed faces, worst first, and its unconverged runs, then
 those over the time goal, slowest first. --peer-from takes the
 peer's runs from an earlier gallery JSON (the same cases: each case's vertex, support and handle
@@ -17,8 +17,8 @@ import sys
 # Issue 37's time goal for a solve: 1 s up to this many free vertices, 10 s above.
 SMALL_FREE, SMALL_MS, LARGE_MS = 10_000, 1_000.0, 10_000.0
 # The edit kinds of bench_gallery's case names (CASE-limbN-twist137, CASE-two-limbs-bend112, ...;
-# drag and push with --drags, grow and shrink with --scales, bump and dent with --bumps), in the order the breakdown lists them; a name with none is "other".
-KINDS = ("two-limbs", "bend", "twist", "pull", "drag", "push", "grow", "shrink", "bump", "dent")
+# drag and push with --drags, grow and shrink with --scales, turn with --turns, bump and dent with --bumps), in the order the breakdown lists them; a name with none is "other".
+KINDS = ("two-limbs", "bend", "twist", "pull", "drag", "push", "grow", "shrink", "turn", "bump", "dent")
 
 
 def edit_kind(case: str) -> str:

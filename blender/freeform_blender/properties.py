@@ -55,7 +55,7 @@ class FreeformSettings(bpy.types.PropertyGroup):
     deformation: EnumProperty(name="Model", default='LINEAR', update=_changed, items=_model_items())
     preserve_volume: BoolProperty(
         name="Keep volume", default=True, update=_changed,
-        description="Nonlinear model: keep the enclosed volume of closed meshes against the model's necking (a drag adds or removes its own)")
+        description="Nonlinear model: keep the enclosed volume of closed meshes against the model's necking (a drag or scale adds or removes its own)")
     active_handle: StringProperty(name="Active handle", description="The handle G/R/S move")
 
 

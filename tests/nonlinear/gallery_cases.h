@@ -4,8 +4,9 @@
 // inner third as the handle; the limb's axis runs from the ball's rim to the handle, and the
 // handle is bent away from the body about the rim, twisted about the axis, or pulled along it;
 // drag_cases() moves it sideways instead, its orientation kept, as a translate gizmo does;
-// scale_cases() scales it about its centre, as a scale gizmo does; bump_cases() pulls a disc of
-// the surface away from the body or pushes it in, the classic freeform edit.
+// scale_cases() scales it about its centre, as a scale gizmo does; turn_cases() turns it about its
+// centre, as a rotate gizmo does; bump_cases() pulls a disc of the surface away from the body or
+// pushes it in, the classic freeform edit.
 #pragma once
 
 #include "survey_shapes.h"
@@ -19,7 +20,7 @@
 
 namespace freeform::test {
 
-enum class LimbEdit { Bend, Twist, Pull, Drag, Scale };
+enum class LimbEdit { Bend, Twist, Pull, Drag, Scale, Turn };
 
 inline Vec3 centroid(const Mesh& mesh) {
   Vec3 c = Vec3::Zero();
@@ -90,15 +91,17 @@ inline Vec3 away_from_body(const Mesh& mesh, const Limb& l) {
 }
 
 // Bend about the rim (the handle swings away from the body's centroid), twist about the axis,
-// pull along it, drag the handle sideways (away from the body, not turned) or scale it about its
-// centre by `amount` (degrees; for a pull or a drag the fraction of the limb's length; for a
-// scale the factor).
+// pull along it, drag the handle sideways (away from the body, not turned), scale it about its
+// centre or turn it there (about the bend's axis, so that its end swings away from the body) by
+// `amount` (degrees; for a pull or a drag the fraction of the limb's length; for a scale the
+// factor).
 inline Eigen::Affine3d limb_transform(const Mesh& mesh, const Limb& l, LimbEdit kind, double amount) {
   if (kind == LimbEdit::Scale)
     return Eigen::Translation3d(l.tip) * Eigen::Scaling(amount) * Eigen::Translation3d(-l.tip);
   if (kind == LimbEdit::Pull) return Eigen::Affine3d(Eigen::Translation3d(amount * (l.tip - l.rim)));
   if (kind == LimbEdit::Twist) return rotation_about(l.rim, amount, l.axis);
   const Vec3 away = away_from_body(mesh, l);
+  if (kind == LimbEdit::Turn) return rotation_about(l.tip, amount, l.axis.cross(away));
   if (kind == LimbEdit::Drag) return Eigen::Affine3d(Eigen::Translation3d(amount * (l.tip - l.rim).norm() * away));
   // Rotating about axis x away moves the tip (along the axis from the rim) toward `away`.
   return rotation_about(l.rim, amount, l.axis.cross(away));
@@ -206,6 +209,24 @@ inline std::vector<Shape> scale_cases(const std::string& mesh_name, const Mesh& 
     const int s = shrink(rng);
     out.push_back(limb_case(stem + "-shrink" + std::to_string(s), mesh, {&limbs[i]},
                             {limb_transform(mesh, limbs[i], LimbEdit::Scale, s / 100.0)}));
+  }
+  return out;
+}
+
+// The same limbs' handles turned in place about their centres, as a rotate gizmo turns them:
+// each by 45-120 degrees about the bend's axis (the end swings away from the body), so the limb
+// must bend one way at its root and back below the handle (a twist about the limb's axis is the
+// same through the centre as through the rim: limb_cases has it).
+inline std::vector<Shape> turn_cases(const std::string& mesh_name, const Mesh& mesh, int n_limbs, double radius_frac,
+                                     std::mt19937& rng) {
+  const std::vector<Limb> limbs = limbs_of(mesh, n_limbs, radius_frac);
+  std::uniform_int_distribution<int> tilt(45, 120);
+  std::vector<Shape> out;
+  for (std::size_t i = 0; i < limbs.size(); ++i) {
+    const std::string stem = mesh_name + "-limb" + std::to_string(i);
+    const int a = tilt(rng);
+    out.push_back(limb_case(stem + "-turn" + std::to_string(a), mesh, {&limbs[i]},
+                            {limb_transform(mesh, limbs[i], LimbEdit::Turn, a)}));
   }
   return out;
 }

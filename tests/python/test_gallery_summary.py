@@ -81,6 +81,7 @@ def test_totals_by_edit_kind(tmp_path):
         # --scales and --bumps: scaled handles, discs pulled out or pushed in.
         {"case": "cow-limb0-grow150", "runs": [run(100, 1, 0, 5, 10.0), run(100, 2, 0, 0, 5.0, "CGAL ARAP")]},
         {"case": "cow-limb0-shrink60", "runs": [run(100, 0, 2, 5, 10.0), run(100, 0, 3, 0, 5.0, "CGAL ARAP")]},
+        {"case": "cow-limb1-turn90", "runs": [run(100, 2, 1, 5, 10.0), run(100, 3, 3, 0, 5.0, "CGAL ARAP")]},
         {"case": "cow-bump0-80", "runs": [run(100, 1, 1, 5, 10.0), run(100, 4, 0, 0, 5.0, "CGAL ARAP")]},
         {"case": "cow-dent1-30", "runs": [run(100, 0, 0, 5, 10.0), run(100, 0, 1, 0, 5.0, "CGAL ARAP")]},
     ]
@@ -94,9 +95,10 @@ def test_totals_by_edit_kind(tmp_path):
     assert "bend" not in kinds and "pull" not in kinds
     assert kinds["grow"] == ["1: 1 / 0", "1: 2 / 0"]
     assert kinds["shrink"] == ["1: 0 / 2", "1: 0 / 3"]
+    assert kinds["turn"] == ["1: 2 / 1", "1: 3 / 3"]
     assert kinds["bump"] == ["1: 1 / 1", "1: 4 / 0"]
     assert kinds["dent"] == ["1: 0 / 0", "1: 0 / 1"]
-    assert list(kinds)[-7:] == ["drag", "push", "grow", "shrink", "bump", "dent", "other"]  # in the order of KINDS
+    assert list(kinds)[-8:] == ["drag", "push", "grow", "shrink", "turn", "bump", "dent", "other"]  # in the order of KINDS
 
 
 def test_saved_peer_runs_compare_like_the_run_itself(tmp_path):

@@ -59,10 +59,10 @@ struct NonlinearOptions {
   // The rest is a smooth multiresolution base (set by nonlinear_base_model): the automatic width
   // above is the wider one.
   bool smooth_rest = false;
-  // Keep the enclosed volume of every closed component with free vertices (times the mean
-  // cube of the handles' scale field; a handle dragged rather than turned adds or removes the
-  // volume its drag moves, enclosed_volume.h), each part of the support restoring what its own
-  // deformation changed; open meshes are not affected.
+  // Keep the enclosed volume of every closed component with free vertices (a handle dragged
+  // rather than turned or scaled adds or removes the volume its drag or scale moves,
+  // enclosed_volume.h), each part of the support restoring what its own deformation changed;
+  // open meshes are not affected.
   bool preserve_volume = true;
   // Weight of a membrane term (ARAP's energy) added to the global step's k-harmonic one, relative
   // to the operator at the scale of a ring (0: none; -1: automatic, 0.3 (500 / free) at k = 2 and
