@@ -22,6 +22,13 @@ namespace freeform::test {
 
 enum class LimbEdit { Bend, Twist, Pull, Drag, Scale, Turn };
 
+// The length of the mesh's bounding-box diagonal.
+inline double diagonal(const Mesh& mesh) {
+  Vec3 lo = mesh.position(Vertex(0)), hi = lo;
+  for (Vertex v : mesh.vertices()) lo = lo.cwiseMin(mesh.position(v)), hi = hi.cwiseMax(mesh.position(v));
+  return (hi - lo).norm();
+}
+
 inline Vec3 centroid(const Mesh& mesh) {
   Vec3 c = Vec3::Zero();
   for (Vertex v : mesh.vertices()) c += mesh.position(v) / static_cast<double>(mesh.n_vertices());
@@ -127,9 +134,7 @@ inline Shape limb_case(const std::string& name, const Mesh& mesh, const std::vec
 // once (two handles) when their supports are disjoint.
 // The limbs at the first `n_limbs` extremities (support radius `radius_frac` of the diagonal).
 inline std::vector<Limb> limbs_of(const Mesh& mesh, int n_limbs, double radius_frac) {
-  Vec3 lo = mesh.position(Vertex(0)), hi = lo;
-  for (Vertex v : mesh.vertices()) lo = lo.cwiseMin(mesh.position(v)), hi = hi.cwiseMax(mesh.position(v));
-  const double radius = radius_frac * (hi - lo).norm();
+  const double radius = radius_frac * diagonal(mesh);
   std::vector<Limb> limbs;
   for (Vertex tip : extremities(mesh, n_limbs))
     if (auto l = limb(mesh, tip, radius)) limbs.push_back(std::move(*l));
@@ -253,9 +258,7 @@ inline std::pair<Vec3, double> region_normal(const Mesh& mesh, const std::vector
 // area: it wraps round a thin part) or reaches half the mesh is skipped.
 inline std::vector<Shape> bump_cases(const std::string& mesh_name, const Mesh& mesh, int n_bumps, double radius_frac,
                                      std::mt19937& rng) {
-  Vec3 lo = mesh.position(Vertex(0)), hi = lo;
-  for (Vertex v : mesh.vertices()) lo = lo.cwiseMin(mesh.position(v)), hi = hi.cwiseMax(mesh.position(v));
-  const double radius = 0.5 * radius_frac * (hi - lo).norm();
+  const double radius = 0.5 * radius_frac * diagonal(mesh);
   std::uniform_int_distribution<int> vertex(0, mesh.n_vertices() - 1), out_by(50, 120), in_by(20, 40);
   std::vector<Shape> out;
   for (int tries = 0, made = 0; tries < 20 * (n_bumps + 1) && made < n_bumps + 1; ++tries) {
@@ -267,7 +270,9 @@ inline std::vector<Shape> bump_cases(const std::string& mesh_name, const Mesh& m
     if (l.support.size() * 2 > static_cast<std::size_t>(mesh.n_vertices()) || l.handle.size() < 3) continue;
     const auto [n, area] = region_normal(mesh, l.support);
     if (n.norm() < 0.5 * area) continue;
-    const Vec3 move = amount / 100.0 * radius * region_normal(mesh, l.handle).first.normalized();
+    // A handle of a few vertices may hold no whole face: the disc's normal then.
+    const Vec3 handle_normal = region_normal(mesh, l.handle).first;
+    const Vec3 move = amount / 100.0 * radius * (handle_normal.norm() > 0 ? handle_normal : n).normalized();
     const std::string name =
         mesh_name + (amount > 0 ? "-bump" : "-dent") + std::to_string(made) + "-" + std::to_string(std::abs(amount));
     out.push_back(limb_case(name, mesh, {&l}, {Eigen::Affine3d(Eigen::Translation3d(move))}));
