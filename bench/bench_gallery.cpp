@@ -15,10 +15,10 @@
 // (/usr/share/assimp/models, or FREEFORM_ASSIMP_DIR) with at least 300 vertices.
 // --drags: the limbs' handles moved without turning (a translate gizmo's edits; drag_cases): each
 // dragged sideways by 40-100 % of the limb's length, the first also pushed toward the body by
-// 20-40 %, instead of the bends, twists and pulls; no survey shapes. --scales: the limbs' handles
-// scaled about their centres instead (scale_cases); --turns: turned in place about their centres
-// (turn_cases). --bumps: discs of the surface pulled out or
-// pushed in along their normal (bump_cases).
+// 20-40 %, instead of the bends, twists and pulls; no survey shapes. Likewise --scales: the
+// handles scaled about their centres (scale_cases); --turns: turned in place about their centres
+// (turn_cases); --bumps: discs of the surface pulled out or pushed in along their normal
+// (bump_cases).
 // --linear-multires: the linear model's multiresolution instead, both encodings (vertex frames,
 // normal displacement) on the same cases with their rotations scaled to a third (edits linear
 // BCM is made for) and on surface patches, judged by the same counts plus the detail heights

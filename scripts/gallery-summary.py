@@ -17,7 +17,8 @@ import sys
 # Issue 37's time goal for a solve: 1 s up to this many free vertices, 10 s above.
 SMALL_FREE, SMALL_MS, LARGE_MS = 10_000, 1_000.0, 10_000.0
 # The edit kinds of bench_gallery's case names (CASE-limbN-twist137, CASE-two-limbs-bend112, ...;
-# drag and push with --drags, grow and shrink with --scales, turn with --turns, bump and dent with --bumps), in the order the breakdown lists them; a name with none is "other".
+# drag and push with --drags, grow and shrink with --scales, turn with --turns, bump and dent with
+# --bumps), in the order the breakdown lists them; a name with none is "other".
 KINDS = ("two-limbs", "bend", "twist", "pull", "drag", "push", "grow", "shrink", "turn", "bump", "dent")
 
 

@@ -40,10 +40,9 @@ Quality quality(const Shape& s, const VertexData<Vec3>& p) {
   return q;
 }
 
-// The limb edits of one libcgal-demo mesh (`make`: limb_cases, drag_cases or scale_cases), drawn
-// as bench_gallery draws a mesh's (seed 37 for this mesh alone, so the angles are not the
-// gallery's own); none when the mesh is missing (a failure where the meshes are required).
-
+// The edits of one libcgal-demo mesh (`make`: one of gallery_cases.h's families), drawn as
+// bench_gallery draws a mesh's (seed 37 for this mesh alone, so the angles are not the gallery's
+// own); none when the mesh is missing (a failure where the meshes are required).
 std::vector<Shape> mesh_limb_cases(const std::string& name, int limbs, double radius, int subdivisions = 0,
                                    CaseMaker make = limb_cases) {
   const std::filesystem::path file = cgal_mesh_dir().empty() ? "" : cgal_mesh_dir() / (name + ".off");
@@ -249,12 +248,13 @@ TEST(GallerySubset, ScaledHandleChangesTheVolumeByNoMoreThanItsLimb) {
   const std::vector<Limb> limbs = limbs_of(mesh, 2, 0.2);
   ASSERT_FALSE(limbs.empty());
   const Limb& ear = limbs[0];
+  // The volume of the faces with every corner in `only` (sorted; all faces without), coned to the rim.
   const auto volume = [&](const VertexData<Vec3>& p, const std::vector<Vertex>* only) {
+    const auto in = [&](Vertex x) { return !only || std::binary_search(only->begin(), only->end(), x); };
     double v = 0.0;
     for (Face f : mesh.faces()) {
       const auto [a, b, c] = mesh.vertices(f);
-      const auto in = [&](Vertex x) { return std::binary_search(only->begin(), only->end(), x); };
-      if (only && !(in(a) && in(b) && in(c))) continue;
+      if (!(in(a) && in(b) && in(c))) continue;
       v += (p[a] - ear.rim).dot((p[b] - ear.rim).cross(p[c] - ear.rim)) / 6.0;
     }
     return v;

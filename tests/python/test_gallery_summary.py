@@ -78,15 +78,14 @@ def test_totals_by_edit_kind(tmp_path):
         # bench_gallery --drags: handles moved without turning.
         {"case": "cow-limb0-drag71", "runs": [run(100, 0, 1, 5, 10.0), run(100, 2, 2, 0, 5.0, "CGAL ARAP")]},
         {"case": "cow-limb0-push30", "runs": [run(100, 3, 4, 5, 10.0), run(100, 1, 0, 0, 5.0, "CGAL ARAP")]},
-        # --scales and --bumps: scaled handles, discs pulled out or pushed in.
+        # --scales, --turns and --bumps: scaled or turned handles, discs pulled out or pushed in.
         {"case": "cow-limb0-grow150", "runs": [run(100, 1, 0, 5, 10.0), run(100, 2, 0, 0, 5.0, "CGAL ARAP")]},
         {"case": "cow-limb0-shrink60", "runs": [run(100, 0, 2, 5, 10.0), run(100, 0, 3, 0, 5.0, "CGAL ARAP")]},
         {"case": "cow-limb1-turn90", "runs": [run(100, 2, 1, 5, 10.0), run(100, 3, 3, 0, 5.0, "CGAL ARAP")]},
         {"case": "cow-bump0-80", "runs": [run(100, 1, 1, 5, 10.0), run(100, 4, 0, 0, 5.0, "CGAL ARAP")]},
         {"case": "cow-dent1-30", "runs": [run(100, 0, 0, 5, 10.0), run(100, 0, 1, 0, 5.0, "CGAL ARAP")]},
     ]
-    out = summarize(tmp_path, cases)
-    kinds = table(out.split("By edit kind (cases: folded edges / collapsed faces)\n\n")[1])
+    kinds = table(summarize(tmp_path, cases).split("By edit kind (cases: folded edges / collapsed faces)\n\n")[1])
     assert kinds["twist"] == ["2: 5 / 1", "2: 6 / 5"]
     assert kinds["two-limbs"] == ["1: 7 / 2", "1: 9 / 9"]
     assert kinds["drag"] == ["1: 0 / 1", "1: 2 / 2"]

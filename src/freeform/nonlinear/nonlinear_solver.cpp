@@ -92,8 +92,8 @@ void rotation_and_scale(const Eigen::Matrix3d& l, Eigen::Quaterniond& q, double&
 
 // What a handle's motion T (x -> s R x + t, rotation vector w, scale s) drags, for the volume
 // target (start_volumes); its scale about the handle's centre h is set apart, leaving the rigid
-// motion x -> R (x - h) + T(h). A turn keeps a limb's volume; it turns about its screw axis (Chasles), and
-// the slide along that axis, t's part along w, moves the handle into or out of the body. Where
+// motion x -> R (x - h) + T(h). A turn keeps a limb's volume; it turns about its screw axis
+// (Chasles), and the slide along that axis, t's part along w, moves the handle into or out of the body. Where
 // that axis passes far from the handle (beyond the support's extent: a small turn about a far
 // axis, the accident of a translate gizmo), the motion is a translation: the handle's whole move
 // T(h) - h drags (h its centre), so the drag does not jump at w = 0, where it is t. Blended
@@ -343,6 +343,7 @@ void NonlinearSolver::start_volumes(std::span<const Eigen::Affine3d> transforms,
     d.volumes->start(transforms, d.x);
     return;
   }
+  // moves[m] * r - r, written so that where s is 1 it is t to the bit.
   const auto move = [&](int m, const Vec3& r) {
     const Eigen::Affine3d& a = moves[static_cast<std::size_t>(m)];
     return Vec3(a.translation() + (a(0, 0) - 1.0) * r);
