@@ -479,7 +479,7 @@ int main(int argc, char** argv) try {
     for (const Config& c : configs) {
       runs.push_back(run_freeform(s, c, closed, p));
       if (!o.out.empty() && (c.name == "k3" || configs.size() == 1)) {
-        write_result(o.out, s.name + "-freeform", s.mesh, p);
+        if (!runs.back().contains("error")) write_result(o.out, s.name + "-freeform", s.mesh, p);
         write_edit_file((std::filesystem::path(o.out) / (s.name + ".edit.json")).string(), configured(s.edit, c));
       }
     }

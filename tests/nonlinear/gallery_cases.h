@@ -267,7 +267,10 @@ inline std::vector<Shape> bump_cases(const std::string& mesh_name, const Mesh& m
     Limb l;
     l.support = select_geodesic(mesh, c, radius, "support");
     l.handle = select_geodesic(mesh, c, radius / 3.0, "handle");
-    if (l.support.size() * 2 > static_cast<std::size_t>(mesh.n_vertices()) || l.handle.size() < 3) continue;
+    // On a coarse mesh the disc can be all handle: no free vertex to bend (the edit is refused).
+    if (l.support.size() * 2 > static_cast<std::size_t>(mesh.n_vertices()) || l.handle.size() < 3 ||
+        l.handle.size() >= l.support.size())
+      continue;
     const auto [n, area] = region_normal(mesh, l.support);
     if (n.norm() < 0.5 * area) continue;
     // A handle of a few vertices may hold no whole face: the disc's normal then.

@@ -11,12 +11,15 @@
 #include "freeform/common/parallel.h"
 #include "freeform/mesh/bounds.h"
 #include "freeform/numerics/sparse_solver.h"
+#include "freeform/operators/face_geometry.h"
 #include "freeform/param/anisotropic.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <optional>
 #include <string>
@@ -104,16 +107,48 @@ VertexData<Vec3> unit_scaled(const VertexData<Vec3>& p) {
   return VertexData<Vec3>(std::move(out));
 }
 
+// A factorization or basis solve that failed without degenerate triangles, with the likely
+// cause: the support's thinnest triangle (the k-th power of a needle's cotangent and area ratios
+// exceeds what double precision resolves; a CAD part's fans).
+constexpr double kNeedleDegrees = 1.0;  // a smaller corner is named as the likely cause
+SolverError explain_ill_conditioned(const SolverError& e, const Mesh& mesh, const std::vector<Vertex>& free,
+                                    int order) {
+  double smallest = 180.0;
+  int face = -1;
+  for (Vertex v : free)
+    for (Halfedge h : mesh.outgoing(v)) {
+      const Face f = mesh.face(h);
+      if (!f.is_valid()) continue;
+      const detail::FaceCorners c = detail::face_corners(mesh, f);
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 a =
+            mesh.position(c.v[static_cast<std::size_t>((k + 1) % 3)]) - mesh.position(c.v[static_cast<std::size_t>(k)]);
+        const Vec3 b =
+            mesh.position(c.v[static_cast<std::size_t>((k + 2) % 3)]) - mesh.position(c.v[static_cast<std::size_t>(k)]);
+        const double angle = std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / std::numbers::pi;
+        if (angle < smallest) smallest = angle, face = f.idx();
+      }
+    }
+  if (face < 0 || smallest >= kNeedleDegrees)
+    return SolverError(std::string(e.what()) +
+                       "; the support's operator is singular: check the support for "
+                       "coincident vertices and near-zero edges");
+  char angle[32];
+  std::snprintf(angle, sizeof angle, "%.3g", smallest);
+  return SolverError(std::string(e.what()) + "; the support's thinnest triangle (face " + std::to_string(face) +
+                     ", a corner of " + angle + " degrees) makes the order-" + std::to_string(order) +
+                     " system too ill-conditioned: use a lower order or keep needle triangles out of the support");
+}
+
 // A failed factorization with the likely cause: degenerate triangles carry no stiffness, so the
 // rows of vertices surrounded by them vanish. A_pp moves into the solver: the basis, the
 // refinement and the nonlinear model need only A_pc and the unassembled operator.
-SparseSolver factor_or_explain(BcmSystem& sys, const BcmSettings& settings, CholeskyAnalysis* analysis) {
+SparseSolver factor_or_explain(const Mesh& mesh, const std::vector<Vertex>& free, BcmSystem& sys,
+                               const BcmSettings& settings, CholeskyAnalysis* analysis) {
   try {
     return SparseSolver(std::move(sys.a_pp), sys.symmetric, settings.solver, analysis);
   } catch (const SolverError& e) {
-    if (sys.degenerate_faces == 0)
-      throw SolverError(std::string(e.what()) + "; the support's operator is singular: check the support for coincident "
-                                                "vertices and near-zero edges");
+    if (sys.degenerate_faces == 0) throw explain_ill_conditioned(e, mesh, free, settings.order);
     std::string faces;
     for (int f : sys.degenerate_examples) faces += (faces.empty() ? "" : ", ") + std::to_string(f);
     throw SolverError(std::string(e.what()) + "; " + std::to_string(sys.degenerate_faces) +
@@ -183,7 +218,7 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   progress.step("factorization", 0.15);
 
   clock.emplace();
-  std::optional<SparseSolver> solver = factor_or_explain(sys, settings, analysis->get());
+  std::optional<SparseSolver> solver = factor_or_explain(mesh, free_, sys, settings, analysis->get());
   stats_.factorization_ms = record("factorization", *clock);
   stats_.analysis_ahead = solver->reused_analysis();
   stats_.analysis_ahead_ms = analysis->ms();
@@ -198,7 +233,11 @@ BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings
   Eigen::MatrixXd x;
   {
     const Eigen::MatrixXd rhs = -(sys.a_pc * xc);
-    x = solver->solve(rhs, true, SolveKernel::Auto, &stats_.residual);  // one call, all 3 + 4M columns
+    try {
+      x = solver->solve(rhs, true, SolveKernel::Auto, &stats_.residual);  // one call, all 3 + 4M columns
+    } catch (const SolverError& e) {
+      throw explain_ill_conditioned(e, mesh, free_, settings.order);
+    }
   }
   stats_.basis_ms = record("basis", *clock);
   progress.step("refinement", 0.75);
@@ -238,7 +277,7 @@ BcmRestSolution bcm_rest_solution(const Mesh& mesh, const Regions& regions, cons
   BcmAnalysis analysis(mesh, regions, settings);
   BcmSystem sys = assemble_bcm_system(mesh, unit_scaled(mesh.positions()), regions, settings);
   progress.step("factorization", 0.15);
-  const SparseSolver solver = factor_or_explain(sys, settings, analysis.get());
+  const SparseSolver solver = factor_or_explain(mesh, sys.free, sys, settings, analysis.get());
   Eigen::MatrixXd xc(static_cast<Eigen::Index>(sys.constrained.size()), 3);
   for (Eigen::Index j = 0; j < xc.rows(); ++j)
     xc.row(j) = mesh.position(sys.constrained[static_cast<std::size_t>(j)]).transpose();

@@ -60,9 +60,10 @@ class SparseSolver {
   SparseSolver& operator=(SparseSolver&&) noexcept;
 
   // X = A^-1 B (B: n by m). Throws SolverError if the result is not finite or (check_residual)
-  // its relative residual |A x - b| / |b| exceeds 1e-6 in some column (numerically singular
-  // matrix). Corrections of iterative refinement skip the check: their right-hand side is
-  // itself rounding noise. residual (optional) receives relative_residual(X, B).
+  // its relative residual |A x - b| / |b| exceeds 1e-6 in some column after up to 8 steps of
+  // iterative refinement with A, taken only when the first solve misses that bound (numerically
+  // singular matrix). Corrections of iterative refinement skip the check: their right-hand side
+  // is itself rounding noise. residual (optional) receives relative_residual(X, B).
   Eigen::MatrixXd solve(const Eigen::MatrixXd& b, bool check_residual = true, SolveKernel kernel = SolveKernel::Auto,
                         double* residual = nullptr) const;
 
@@ -84,6 +85,7 @@ class SparseSolver {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  Eigen::MatrixXd solve_once(const Eigen::MatrixXd& b, SolveKernel kernel) const;
 };
 
 }  // namespace freeform
