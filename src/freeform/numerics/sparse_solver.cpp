@@ -196,12 +196,13 @@ const char* kind_name(SolverKind k) {
   return "auto";
 }
 
-// Mean nonzeros per row below which CHOLMOD orders by AMD alone (a triangle mesh's Laplacian
-// has ~7, the k = 2 operator ~19).
-// solve()'s backward-error bound, and the refinement steps it may take to meet it.
+// solve()'s backward-error bound, the refinement steps it may take to meet it, and the relative
+// correction below which a refined solve is accepted all the same (its residual then rounding).
 constexpr double kMaxResidual = 1e-6;
 constexpr int kRefinementSteps = 8;
 constexpr double kMaxForwardError = 1e-8;
+// Mean nonzeros per row below which CHOLMOD orders by AMD alone (a triangle mesh's Laplacian
+// has ~7, the k = 2 operator ~19).
 constexpr Eigen::Index kLaplacianLikeNonzeros = 10;
 // Rows from which a wider stencil is ordered by METIS without CHOLMOD's trial AMD ordering.
 constexpr Eigen::Index kMetisOnlyRows = 250000;
