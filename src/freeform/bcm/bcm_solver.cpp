@@ -120,12 +120,10 @@ SolverError explain_ill_conditioned(const SolverError& e, const Mesh& mesh, cons
       const Face f = mesh.face(h);
       if (!f.is_valid()) continue;
       const detail::FaceCorners c = detail::face_corners(mesh, f);
-      for (int k = 0; k < 3; ++k) {
-        const Vec3 a =
-            mesh.position(c.v[static_cast<std::size_t>((k + 1) % 3)]) - mesh.position(c.v[static_cast<std::size_t>(k)]);
-        const Vec3 b =
-            mesh.position(c.v[static_cast<std::size_t>((k + 2) % 3)]) - mesh.position(c.v[static_cast<std::size_t>(k)]);
-        const double angle = std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / std::numbers::pi;
+      const detail::TriangleGeometry g =
+          detail::triangle_geometry(mesh.position(c.v[0]), mesh.position(c.v[1]), mesh.position(c.v[2]));
+      for (const double dot : g.dot) {
+        const double angle = std::atan2(g.double_area, dot) * 180.0 / std::numbers::pi;
         if (angle < smallest) smallest = angle, face = f.idx();
       }
     }
