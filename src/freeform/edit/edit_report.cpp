@@ -92,6 +92,7 @@ std::vector<std::string> edit_warnings(const EditSolver& solver, const EditProbl
                                        const NonlinearState* nonlinear) {
   std::vector<std::string> out;
   const BcmStats& st = solver.stats().bcm;
+  if (!solver.stats().order_fallback.empty()) out.push_back(solver.stats().order_fallback);
   if (nonlinear && !nonlinear->converged && nonlinear->iterations > 0 && solver.nonlinear_options())
     out.push_back(fmt::format("the nonlinear model stopped at its cap of {} iterations before converging (residual "
                               "{:.2g} > tolerance {:.2g}); raise \"nonlinear\": {{\"max_iterations\"}} in the edit file",

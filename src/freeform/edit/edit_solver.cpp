@@ -57,13 +57,49 @@ void refuse_unanchored_closed_components(const Mesh& mesh, const Regions& region
   }
 }
 
+// The same edit at order k - 1, each boundary smoothness capped at C^(k-2).
+Edit lower_order(const Edit& edit) {
+  Edit lower = edit;
+  BcmSettings& s = lower.settings;
+  const double cap = s.order - 2;
+  s.order -= 1;
+  s.smoothness.outer = std::min(resolved_outer(edit.settings), cap);
+  s.smoothness.inner = std::min(resolved_inner(edit.settings), cap);
+  for (SmoothnessSegment& segment : s.smoothness.segments) segment.value = std::min(segment.value, cap);
+  return lower;
+}
+
 }  // namespace
 
+// Order 3 raises the cotangents and area ratios of the support's triangles to the third power:
+// on a CAD part's needle fans (corners of 0.02 degrees) that system is beyond double precision
+// and no solve of it meets the residual bound, while order 2 solves (docs/bcm.md). Such an edit
+// is solved at order 2 and says so, rather than refused.
 EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progress)
     : regions_(edit_regions(mesh, edit)),
       settings_(edit.settings),
       touched_(touched_vertices(regions_)),
       folds_(mesh, mesh.positions(), touched_) {
+  try {
+    build(mesh, edit, progress);
+  } catch (const SolverError& e) {
+    if (edit.settings.order < 3) throw;
+    const Edit lower = lower_order(edit);
+    bcm_.reset();
+    multires_.reset();
+    model_.reset();
+    stats_ = {};
+    try {
+      build(mesh, lower, progress);
+    } catch (const SolverError& again) {
+      throw SolverError(std::string(e.what()) + "; at order 2 as well: " + again.what());
+    }
+    settings_ = lower.settings;
+    stats_.order_fallback = std::string("the order-3 system failed (") + e.what() + "); solved at order 2";
+  }
+}
+
+void EditSolver::build(const Mesh& mesh, const Edit& edit, const Progress& progress) {
   progress.check();
   const PhaseClock whole;
   stats_.deformation = edit.deformation;

@@ -20,6 +20,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace freeform {
@@ -34,6 +35,9 @@ struct EditStats {
   // model's setup); the phases add up to the whole.
   PhaseTime precompute;
   std::vector<Phase> phases;
+  // Why the edit was solved at a lower order than it asked for (empty: it was not): an order-3
+  // system beyond double precision on the support (needle triangles), solved at order 2.
+  std::string order_fallback;
 };
 
 // Wall times of the last evaluate(), in milliseconds.
@@ -54,13 +58,16 @@ struct EditProblems {
 class EditSolver {
  public:
   // Throws InvalidInput (regions, settings), SolverError (factorization), Cancelled (progress).
+  // An order-3 edit whose system fails (SolverError) is solved at order 2, its boundary
+  // smoothness capped at C1, and says so in stats().order_fallback; it throws only if that
+  // fails too.
   EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progress = {});
   ~EditSolver();
   EditSolver(EditSolver&&) noexcept;
   EditSolver& operator=(EditSolver&&) noexcept;
 
   const Regions& regions() const { return regions_; }
-  const BcmSettings& settings() const { return settings_; }  // the edit's
+  const BcmSettings& settings() const { return settings_; }  // the edit's, or the lower order's
   int n_vertices() const { return regions_.n_vertices(); }
   int n_movable() const { return regions_.n_movable(); }  // transforms per frame, in handle order
   Vec3 handle_centroid(int movable) const;                // default pivot of movable handle m
@@ -105,6 +112,8 @@ class EditSolver {
   const MultiresSolver* multires() const { return multires_.get(); }  // null without multires
 
  private:
+  void build(const Mesh& mesh, const Edit& edit, const Progress& progress);
+
   Regions regions_;
   BcmSettings settings_;
   std::vector<Vertex> touched_;
