@@ -12,6 +12,7 @@
 
 using namespace freeform;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 namespace {
 
@@ -59,6 +60,14 @@ TEST(EditWarnings, ACappedNonlinearRunAndTheFrameProblemsAreNamed) {
   const Json report = edit_report(solver, {}, problems);
   ASSERT_EQ(report["warnings"].size(), 3u);
   EXPECT_EQ(report["warnings"][0].get<std::string>(), w[0]);
+  // At the cap the result is the iterate with the smallest step: within the tolerance where the
+  // iteration cycled around it, which the warning must not call a larger residual.
+  NonlinearState cycled = *solver.nonlinear_state();
+  cycled.step = 0.5 * solver.nonlinear_options()->tolerance;
+  const std::vector<std::string> c = edit_warnings(solver, {}, &cycled);
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_THAT(c[0], HasSubstr("cycled around the result"));
+  EXPECT_THAT(c[0], Not(HasSubstr("> tolerance")));
 }
 
 TEST(EditWarnings, TheAnisotropicFallbackIsNamed) {

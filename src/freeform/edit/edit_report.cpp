@@ -93,10 +93,21 @@ std::vector<std::string> edit_warnings(const EditSolver& solver, const EditProbl
   std::vector<std::string> out;
   const BcmStats& st = solver.stats().bcm;
   if (!solver.stats().order_fallback.empty()) out.push_back(solver.stats().order_fallback);
-  if (nonlinear && !nonlinear->converged && nonlinear->iterations > 0 && solver.nonlinear_options())
-    out.push_back(fmt::format("the nonlinear model stopped at its cap of {} iterations before converging (residual "
-                              "{:.2g} > tolerance {:.2g}); raise \"nonlinear\": {{\"max_iterations\"}} in the edit file",
-                              nonlinear->iterations, nonlinear->step, solver.nonlinear_options()->tolerance));
+  if (nonlinear && !nonlinear->converged && nonlinear->iterations > 0 && solver.nonlinear_options()) {
+    const double tolerance = solver.nonlinear_options()->tolerance;
+    // At the cap the result is the iterate with the smallest step, which can be within the
+    // tolerance where the iteration cycles around a point no plain step confirms.
+    if (nonlinear->step > tolerance)
+      out.push_back(
+          fmt::format("the nonlinear model stopped at its cap of {} iterations before converging (residual "
+                      "{:.2g} > tolerance {:.2g}); raise \"nonlinear\": {{\"max_iterations\"}} in the edit file",
+                      nonlinear->iterations, nonlinear->step, tolerance));
+    else
+      out.push_back(
+          fmt::format("the nonlinear model stopped at its cap of {} iterations before converging: it cycled "
+                      "around the result (residual {:.2g}, within the tolerance {:.2g}) without settling there",
+                      nonlinear->iterations, nonlinear->step, tolerance));
+  }
   if (st.forward_error > kForwardErrorWarning)
     out.push_back(fmt::format("the solve's estimated error is {:.2g} of the bounding-box diagonal (refinement: {} "
                               "steps, {}); the support is too large for an accurate order-{} solve: use a smaller "
