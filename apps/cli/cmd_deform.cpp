@@ -53,14 +53,15 @@ double peak_memory_mb() {
 }
 
 // What was written and how the models went (stdout); the warnings go to stderr (edit_warnings).
-void print_summary(const DeformOptions& opt, const ReadResult& read, const Edit& edit, const EditSolver& solver,
-                   double evaluate_ms, double reconstruct_ms) {
+void print_summary(const DeformOptions& opt, const ReadResult& read, const EditSolver& solver, double evaluate_ms,
+                   double reconstruct_ms) {
   const Regions& regions = solver.regions();
   const BcmStats& st = solver.stats().bcm;
   const std::optional<MultiresStats>& ms = solver.stats().multires;
-  fmt::print("wrote {} ({} vertices, {} faces): order {}, {} free, {} fixed, {} handles; solver {}, evaluate {:.3f} ms\n",
-             opt.out, read.soup.positions.size(), read.soup.faces.size(), edit.settings.order, regions.n_free(), regions.n_fixed(),
-             regions.handles().size(), st.solver, evaluate_ms);
+  fmt::print(
+      "wrote {} ({} vertices, {} faces): order {}, {} free, {} fixed, {} handles; solver {}, evaluate {:.3f} ms\n",
+      opt.out, read.soup.positions.size(), read.soup.faces.size(), solver.settings().order, regions.n_free(),
+      regions.n_fixed(), regions.handles().size(), st.solver, evaluate_ms);
   if (const NonlinearState* ns = solver.nonlinear_state())
     fmt::print("nonlinear: {} iterations, residual {:.2g}, {:.1f} ms\n", ns->iterations, ns->step, ns->ms);
   if (st.anisotropic)
@@ -148,7 +149,7 @@ void run(const DeformOptions& opt) {
   } catch (const Error& e) {
     throw OutputError(e.what());
   }
-  print_summary(opt, read, edit, solver, evaluate_ms, reconstruct_ms);
+  print_summary(opt, read, solver, evaluate_ms, reconstruct_ms);
   for (const std::string& w : edit_warnings(solver, problems, solver.nonlinear_state()))
     fmt::print(stderr, "warning: {}\n", w);
   if (!opt.report.empty()) fmt::print("wrote {}\n", opt.report);
