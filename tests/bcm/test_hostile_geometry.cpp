@@ -122,6 +122,77 @@ TEST(HostileGeometry, HugeValenceIsRefusedBeforeAssembly) {
   EXPECT_NO_THROW(BcmSolver(mesh, regions, settings));
 }
 
+// A 10 x 10 grid of unit cells with a strip of needle triangles inserted above row 5 (width
+// 3e-4: corners of 0.0172 degrees, as on a CAD part's fans), support r < 4.3 and handle r < 1.2
+// about the centre, the handle lifted by 1. Order 3 of that operator is beyond double
+// precision (its solve misses the residual bound even after refinement); order 2 solves.
+Edit needle_strip_edit(TriangleSoup& soup) {
+  constexpr int n = 11;
+  constexpr double width = 3e-4;
+  std::vector<double> rows;
+  for (int y = 0; y < n; ++y) rows.push_back(y <= 5 ? y : y + width);
+  rows.insert(rows.begin() + 6, 5 + width);
+  for (double y : rows)
+    for (int x = 0; x < n; ++x) soup.positions.emplace_back(x, y, 0.0);
+  for (int r = 0; r + 1 < static_cast<int>(rows.size()); ++r)
+    for (int x = 0; x + 1 < n; ++x) {
+      const int a = r * n + x, b = a + 1, c = a + n + 1, d = a + n;
+      soup.faces.push_back({a, b, c});
+      soup.faces.push_back({a, c, d});
+    }
+  Edit edit;
+  EditHandle handle;
+  const Vec3 centre(5, 5, 0);
+  for (int v = 0; v < static_cast<int>(soup.positions.size()); ++v) {
+    const double r = (soup.positions[static_cast<std::size_t>(v)] - centre).norm();
+    if (r < 4.3) edit.support.emplace_back(v);
+    if (r < 1.2) handle.vertices.emplace_back(v);
+  }
+  handle.matrix = Eigen::Affine3d(Eigen::Translation3d(0, 0, 1));
+  edit.handles.push_back(handle);
+  return edit;
+}
+
+TEST(HostileGeometry, AnOrder3EditOnNeedlesIsSolvedAsTheSameEditAtOrder2) {
+  TriangleSoup soup;
+  Edit edit = needle_strip_edit(soup);
+  const Mesh mesh = Mesh::from_soup(soup);
+  for (const Deformation deformation : {Deformation::Linear, Deformation::Nonlinear}) {
+    SCOPED_TRACE(deformation == Deformation::Linear ? "linear" : "nonlinear");
+    edit.deformation = deformation;
+    // k = 3 with C2 outside, C0 at the handle and a C2 segment on part of it: at order 2 the
+    // smoothness is capped at C1 (C2 becomes C1, C0 stays).
+    edit.settings.order = 3;
+    edit.settings.smoothness = {.outer = 2.0, .inner = 0.0, .segments = {{{edit.handles[0].vertices[0]}, 2.0}}};
+    const EditSolver fallback(mesh, edit);
+    Edit order2 = edit;
+    order2.settings.order = 2;
+    order2.settings.smoothness = {.outer = 1.0, .inner = 0.0, .segments = {{{edit.handles[0].vertices[0]}, 1.0}}};
+    const EditSolver direct(mesh, order2);
+    EXPECT_EQ(fallback.settings(), order2.settings);
+    EXPECT_TRUE(direct.stats().order_fallback.empty());
+    const std::vector<std::string> warnings = edit_warnings(fallback);
+    ASSERT_FALSE(warnings.empty());
+    EXPECT_NE(warnings[0].find("the order-3 system failed"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("a corner of 0.0172 degrees"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("solved at order 2"), std::string::npos) << warnings[0];
+    // The same result as the order-2 edit, to the bit, and the handle lifted.
+    VertexData<Vec3> a = mesh.positions(), b = mesh.positions();
+    fallback.evaluate(fallback.transforms(edit), a);
+    direct.evaluate(direct.transforms(order2), b);
+    double lifted = 0.0;
+    for (Vertex v : mesh.vertices()) {
+      ASSERT_EQ(a[v], b[v]) << "vertex " << v.idx();
+      lifted = std::max(lifted, a[v].z());
+    }
+    EXPECT_DOUBLE_EQ(lifted, 1.0);
+  }
+  // Order 2 itself is not lowered: only order 3 falls back.
+  edit.settings.order = 2;
+  edit.settings.smoothness = {};
+  EXPECT_EQ(EditSolver(mesh, edit).settings().order, 2);
+}
+
 // A CAD part's needle triangles (assimp-testmodels' two-cylinder engine, a bump of the gallery's
 // --assimp --bumps: a disc around a fan whose thinnest corner is 0.017 degrees, face 61011). At
 // k = 2 the factor's first basis solve misses the residual bound (2.7e-6) and iterative
