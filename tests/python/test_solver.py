@@ -275,3 +275,28 @@ def test_frames_never_wait_and_settle_on_the_models_solution(plane):
     assert np.abs(out - cold).max() < 1e-4
     lin = freeform.EditSolver(plane, freeform.Edit.from_dict(plane_edit_dict(), plane))
     assert lin.frame(out, None)["settled"] is True
+
+
+def test_an_order_3_edit_beyond_double_precision_is_solved_at_order_2():
+    """A grid with a strip of needles 3e-4 wide (corners of 0.0172 degrees): its order-3 system
+    fails, so the edit is solved at order 2, which the stats say (as `freeform deform` does)."""
+    rows = [float(y) for y in range(6)] + [5 + 3e-4] + [y + 3e-4 for y in range(6, 11)]
+    vertices = np.array([(x, y, 0.0) for y in rows for x in range(11)])
+    faces = []
+    for r in range(len(rows) - 1):
+        for x in range(10):
+            a = r * 11 + x
+            faces += [(a, a + 1, a + 12), (a, a + 12, a + 11)]
+    mesh = freeform.Mesh(vertices, np.array(faces))
+    edit = {"support": {"sphere": {"center": [5, 5, 0], "radius": 4.3}},
+            "handles": [{"region": {"sphere": {"center": [5, 5, 0], "radius": 1.2}},
+                         "transform": {"translate": [0, 0, 1]}}]}
+    results = {}
+    for order in (2, 3):
+        solver = freeform.EditSolver(mesh, freeform.Edit.from_dict({**edit, "order": order}, mesh))
+        results[order] = solver.evaluate()
+        assert solver.stats["order"] == 2
+        fallback = [w for w in solver.stats["warnings"] if "solved at order 2" in w]
+        assert len(fallback) == (order == 3)
+    assert "the order-3 system failed" in fallback[0] and "0.0172 degrees" in fallback[0]
+    assert np.array_equal(results[2], results[3]) and results[3][:, 2].max() == pytest.approx(1.0)
