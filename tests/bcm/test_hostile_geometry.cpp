@@ -193,6 +193,57 @@ TEST(HostileGeometry, AnOrder3EditOnNeedlesIsSolvedAsTheSameEditAtOrder2) {
   EXPECT_EQ(EditSolver(mesh, edit).settings().order, 2);
 }
 
+// A flat cap fanned from its centre into `segments` triangles, as CAD parts export a disc, with
+// rings of as many vertices at radii 0.5, 1, ..., 3 around it.
+TriangleSoup fanned_cap(int segments) {
+  TriangleSoup soup;
+  soup.positions.emplace_back(0, 0, 0);
+  for (int r = 1; r <= 6; ++r)
+    for (int i = 0; i < segments; ++i) {
+      const double a = 2.0 * std::numbers::pi * i / segments;
+      soup.positions.emplace_back(0.5 * r * std::cos(a), 0.5 * r * std::sin(a), 0.0);
+    }
+  const auto ring = [segments](int r, int i) { return 1 + (r - 1) * segments + i % segments; };
+  for (int i = 0; i < segments; ++i) soup.faces.push_back({0, ring(1, i), ring(1, i + 1)});
+  for (int r = 1; r < 6; ++r)
+    for (int i = 0; i < segments; ++i) {
+      soup.faces.push_back({ring(r, i), ring(r + 1, i + 1), ring(r, i + 1)});
+      soup.faces.push_back({ring(r, i), ring(r + 1, i), ring(r + 1, i + 1)});
+    }
+  return soup;
+}
+
+// Its centre lifted at k = 3 (support r < 2.3): with 200 segments (corners of 1.8 degrees) the
+// order-3 system solves; with 300 (1.2 degrees) it is beyond double precision and the edit is
+// solved at order 2, a smooth dome.
+TEST(HostileGeometry, ACadCapFannedInto300SegmentsIsSolvedAtOrder2) {
+  for (const int segments : {200, 300}) {
+    SCOPED_TRACE(testing::Message() << segments << " segments");
+    const Mesh mesh = Mesh::from_soup(fanned_cap(segments));
+    Edit edit;
+    edit.support = within(mesh, Vec3::Zero(), 2.3);
+    EditHandle handle;
+    handle.vertices = {Vertex(0)};
+    handle.matrix = Eigen::Affine3d(Eigen::Translation3d(0, 0, 0.5));
+    edit.handles.push_back(handle);
+    edit.settings.order = 3;
+    edit.deformation = Deformation::Nonlinear;
+    const EditSolver solver(mesh, edit);
+    EXPECT_EQ(solver.settings().order, segments == 200 ? 3 : 2);
+    EXPECT_EQ(solver.stats().order_fallback.empty(), segments == 200) << solver.stats().order_fallback;
+    VertexData<Vec3> p = mesh.positions();
+    solver.evaluate(solver.transforms(edit), p);
+    ASSERT_TRUE(solver.nonlinear_state()->converged);
+    EXPECT_EQ(p[Vertex(0)].z(), 0.5);
+    for (Vertex v : edit.support) {  // a dome: lifted, below the centre, lower further out
+      ASSERT_TRUE(p[v].allFinite());
+      EXPECT_GT(p[v].z(), 0.0) << v.idx();
+      EXPECT_LE(p[v].z(), 0.5 + 1e-9) << v.idx();
+    }
+    EXPECT_GT(p[Vertex(1)].z(), p[Vertex(1 + 3 * segments)].z());
+  }
+}
+
 // A CAD part's needle triangles (assimp-testmodels' two-cylinder engine, a bump of the gallery's
 // --assimp --bumps: a disc around a fan whose thinnest corner is 0.017 degrees, face 61011). At
 // k = 2 the factor's first basis solve misses the residual bound (2.7e-6) and iterative
