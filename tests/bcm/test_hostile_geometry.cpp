@@ -122,13 +122,11 @@ TEST(HostileGeometry, HugeValenceIsRefusedBeforeAssembly) {
   EXPECT_NO_THROW(BcmSolver(mesh, regions, settings));
 }
 
-// A 10 x 10 grid of unit cells with a strip of needle triangles inserted above row 5 (width
-// 3e-4: corners of 0.0172 degrees, as on a CAD part's fans), support r < 4.3 and handle r < 1.2
-// about the centre, the handle lifted by 1. Order 3 of that operator is beyond double
-// precision (its solve misses the residual bound even after refinement); order 2 solves.
-Edit needle_strip_edit(TriangleSoup& soup) {
+// A 10 x 10 grid of unit cells with a strip of needle triangles `width` wide inserted above row
+// 5 (3e-4: corners of 0.0172 degrees, as on a CAD part's fans), support r < 4.3 and handle
+// r < 1.2 about the centre, the handle lifted by 1.
+Edit needle_strip_edit(TriangleSoup& soup, double width) {
   constexpr int n = 11;
-  constexpr double width = 3e-4;
   std::vector<double> rows;
   for (int y = 0; y < n; ++y) rows.push_back(y <= 5 ? y : y + width);
   rows.insert(rows.begin() + 6, 5 + width);
@@ -150,19 +148,31 @@ Edit needle_strip_edit(TriangleSoup& soup) {
   }
   handle.matrix = Eigen::Affine3d(Eigen::Translation3d(0, 0, 1));
   edit.handles.push_back(handle);
+  edit.settings.order = 3;
   return edit;
 }
 
-TEST(HostileGeometry, AnOrder3EditOnNeedlesIsSolvedAsTheSameEditAtOrder2) {
+// With needles 3e-4 wide the order-3 solve misses the relative residual bound (1e-6) but is
+// backward stable, and the refinement against the unassembled operator makes it accurate: it is
+// kept at order 3. With needles 1e-5 wide it is half the diagonal off the order-3 solution: the
+// edit is solved at order 2 instead, as the same edit asked at order 2 (C2 boundaries made C1).
+TEST(HostileGeometry, AnOrder3EditOnNeedlesIsSolvedAtOrder3OrAsTheSameEditAtOrder2) {
+  TriangleSoup wide;
+  const Edit accurate = needle_strip_edit(wide, 3e-4);
+  const EditSolver kept(Mesh::from_soup(wide), accurate);
+  EXPECT_EQ(kept.settings().order, 3);
+  EXPECT_GT(kept.stats().bcm.residual, 1e-6);
+  EXPECT_LT(kept.stats().bcm.forward_error, 1e-12);
+  EXPECT_TRUE(kept.stats().order_fallback.empty()) << kept.stats().order_fallback;
+
   TriangleSoup soup;
-  Edit edit = needle_strip_edit(soup);
+  Edit edit = needle_strip_edit(soup, 1e-5);
   const Mesh mesh = Mesh::from_soup(soup);
   for (const Deformation deformation : {Deformation::Linear, Deformation::Nonlinear}) {
     SCOPED_TRACE(deformation == Deformation::Linear ? "linear" : "nonlinear");
     edit.deformation = deformation;
-    // k = 3 with C2 outside, C0 at the handle and a C2 segment on part of it: at order 2 the
-    // smoothness is capped at C1 (C2 becomes C1, C0 stays).
-    edit.settings.order = 3;
+    // C2 outside, C0 at the handle and a C2 segment on part of it: at order 2 the smoothness is
+    // capped at C1 (C2 becomes C1, C0 stays).
     edit.settings.smoothness = {.outer = 2.0, .inner = 0.0, .segments = {{{edit.handles[0].vertices[0]}, 2.0}}};
     const EditSolver fallback(mesh, edit);
     Edit order2 = edit;
@@ -173,8 +183,7 @@ TEST(HostileGeometry, AnOrder3EditOnNeedlesIsSolvedAsTheSameEditAtOrder2) {
     EXPECT_TRUE(direct.stats().order_fallback.empty());
     const std::vector<std::string> warnings = edit_warnings(fallback);
     ASSERT_FALSE(warnings.empty());
-    EXPECT_NE(warnings[0].find("the order-3 system failed"), std::string::npos) << warnings[0];
-    EXPECT_NE(warnings[0].find("a corner of 0.0172 degrees"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("the order-3 solve's estimated error is"), std::string::npos) << warnings[0];
     EXPECT_NE(warnings[0].find("solved at order 2"), std::string::npos) << warnings[0];
     // The same result as the order-2 edit, to the bit, and the handle lifted.
     VertexData<Vec3> a = mesh.positions(), b = mesh.positions();
@@ -213,34 +222,41 @@ TriangleSoup fanned_cap(int segments) {
   return soup;
 }
 
-// Its centre lifted at k = 3 (support r < 2.3): with 200 segments (corners of 1.8 degrees) the
-// order-3 system solves; with 300 (1.2 degrees) it is beyond double precision and the edit is
-// solved at order 2, a smooth dome.
-TEST(HostileGeometry, ACadCapFannedInto300SegmentsIsSolvedAtOrder2) {
-  for (const int segments : {200, 300}) {
-    SCOPED_TRACE(testing::Message() << segments << " segments");
-    const Mesh mesh = Mesh::from_soup(fanned_cap(segments));
-    Edit edit;
-    edit.support = within(mesh, Vec3::Zero(), 2.3);
-    EditHandle handle;
-    handle.vertices = {Vertex(0)};
-    handle.matrix = Eigen::Affine3d(Eigen::Translation3d(0, 0, 0.5));
-    edit.handles.push_back(handle);
-    edit.settings.order = 3;
-    edit.deformation = Deformation::Nonlinear;
+// Its centre lifted at k = 3 (support r < 2.3). With 600 segments (corners of 0.6 degrees) the
+// order-3 solve's relative residual is about 1e-4, far over the 1e-6 bound that refused it
+// until 2026-12-07, yet the result is accurate (its forward error against the unassembled
+// operator is near the rounding unit): a smooth dome, each ring at one height, lower further out.
+TEST(HostileGeometry, ACadCapFannedInto600SegmentsSolvesAtOrder3) {
+  constexpr int segments = 600;
+  const Mesh mesh = Mesh::from_soup(fanned_cap(segments));
+  Edit edit;
+  edit.support = within(mesh, Vec3::Zero(), 2.3);
+  EditHandle handle;
+  handle.vertices = {Vertex(0)};
+  handle.matrix = Eigen::Affine3d(Eigen::Translation3d(0, 0, 0.5));
+  edit.handles.push_back(handle);
+  edit.settings.order = 3;
+  for (const Deformation deformation : {Deformation::Linear, Deformation::Nonlinear}) {
+    SCOPED_TRACE(deformation == Deformation::Linear ? "linear" : "nonlinear");
+    edit.deformation = deformation;
     const EditSolver solver(mesh, edit);
-    EXPECT_EQ(solver.settings().order, segments == 200 ? 3 : 2);
-    EXPECT_EQ(solver.stats().order_fallback.empty(), segments == 200) << solver.stats().order_fallback;
+    EXPECT_EQ(solver.settings().order, 3) << solver.stats().order_fallback;
+    EXPECT_GT(solver.stats().bcm.residual, 1e-6);
+    EXPECT_LT(solver.stats().bcm.forward_error, 1e-12);
     VertexData<Vec3> p = mesh.positions();
     solver.evaluate(solver.transforms(edit), p);
-    ASSERT_TRUE(solver.nonlinear_state()->converged);
-    EXPECT_EQ(p[Vertex(0)].z(), 0.5);
-    for (Vertex v : edit.support) {  // a dome: lifted, below the centre, lower further out
-      ASSERT_TRUE(p[v].allFinite());
-      EXPECT_GT(p[v].z(), 0.0) << v.idx();
-      EXPECT_LE(p[v].z(), 0.5 + 1e-9) << v.idx();
+    if (const NonlinearState* state = solver.nonlinear_state()) {
+      EXPECT_TRUE(state->converged);
     }
-    EXPECT_GT(p[Vertex(1)].z(), p[Vertex(1 + 3 * segments)].z());
+    EXPECT_EQ(p[Vertex(0)].z(), 0.5);
+    double above = 0.5;
+    for (int r = 1; r <= 4; ++r) {  // rings at 0.5 .. 2 are free
+      const double z = p[Vertex(1 + (r - 1) * segments)].z();
+      for (int i = 0; i < segments; ++i) EXPECT_NEAR(p[Vertex(1 + (r - 1) * segments + i)].z(), z, 1e-9);
+      EXPECT_GT(z, 0.0);
+      EXPECT_LT(z, above);
+      above = z;
+    }
   }
 }
 

@@ -4,6 +4,8 @@
 #include "freeform/common/json_messages.h"
 #include "freeform/multires/operator_shape.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -72,31 +74,38 @@ Edit lower_order(const Edit& edit) {
 }  // namespace
 
 // Order 3 raises the cotangents and area ratios of the support's triangles to the third power:
-// on a CAD part's needle fans (corners of 0.02 degrees) that system is beyond double precision
-// and no solve of it meets the residual bound, while order 2 solves (docs/bcm.md). Such an edit
-// is solved at order 2 and says so, rather than refused.
+// on a CAD part's needle fans that system can be beyond double precision: its factorization
+// fails, or its solve is far from the solution (the refinement against the unassembled
+// operator does not converge), while order 2 solves (docs/bcm.md). Such an edit is solved at
+// order 2 and says so, rather than refused or returned wrong.
 EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progress)
     : regions_(edit_regions(mesh, edit)),
       settings_(edit.settings),
       touched_(touched_vertices(regions_)),
       folds_(mesh, mesh.positions(), touched_) {
+  std::string failure;
   try {
     build(mesh, edit, progress);
+    if (edit.settings.order == 3 && !(stats_.bcm.forward_error <= kForwardErrorWarning))
+      failure = fmt::format("the order-3 solve's estimated error is {:.2g} of the bounding-box diagonal",
+                            stats_.bcm.forward_error);
   } catch (const SolverError& e) {
     if (edit.settings.order < 3) throw;
-    const Edit lower = lower_order(edit);
-    bcm_.reset();
-    multires_.reset();
-    model_.reset();
-    stats_ = {};
-    try {
-      build(mesh, lower, progress);
-    } catch (const SolverError& again) {
-      throw SolverError(std::string(e.what()) + "; at order 2 as well: " + again.what());
-    }
-    settings_ = lower.settings;
-    stats_.order_fallback = std::string("the order-3 system failed (") + e.what() + "); solved at order 2";
+    failure = std::string("the order-3 system failed (") + e.what() + ")";
   }
+  if (failure.empty()) return;
+  const Edit lower = lower_order(edit);
+  bcm_.reset();
+  multires_.reset();
+  model_.reset();
+  stats_ = {};
+  try {
+    build(mesh, lower, progress);
+  } catch (const SolverError& again) {
+    throw SolverError(failure + "; at order 2 as well: " + again.what());
+  }
+  settings_ = lower.settings;
+  stats_.order_fallback = failure + "; solved at order 2";
 }
 
 void EditSolver::build(const Mesh& mesh, const Edit& edit, const Progress& progress) {

@@ -58,9 +58,9 @@ struct EditProblems {
 class EditSolver {
  public:
   // Throws InvalidInput (regions, settings), SolverError (factorization), Cancelled (progress).
-  // An order-3 edit whose system fails (SolverError) is solved at order 2, its boundary
-  // smoothness capped at C1, and says so in stats().order_fallback; it throws only if that
-  // fails too.
+  // An order-3 edit whose system fails (SolverError) or whose solve's estimated error exceeds
+  // kForwardErrorWarning is solved at order 2, its boundary smoothness capped at C1, and says so
+  // in stats().order_fallback; it throws only if order 2 fails too.
   EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progress = {});
   ~EditSolver();
   EditSolver(EditSolver&&) noexcept;

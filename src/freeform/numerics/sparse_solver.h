@@ -61,9 +61,11 @@ class SparseSolver {
 
   // X = A^-1 B (B: n by m). Throws SolverError if the result is not finite or (check_residual)
   // its relative residual |A x - b| / |b| exceeds 1e-6 in some column after up to 8 steps of
-  // iterative refinement with A, taken only when the first solve misses that bound (numerically
-  // singular matrix). Corrections of iterative refinement skip the check: their right-hand side
-  // is itself rounding noise. residual (optional) receives relative_residual(X, B).
+  // iterative refinement with A (taken only when the first solve misses that bound, while they
+  // lower it) and its normwise backward error |A x - b| / (|A|_F |x| + |b|) exceeds 1e-12
+  // (numerically singular matrix; an ill-conditioned one solved stably passes, and its caller
+  // judges the accuracy). Corrections of iterative refinement skip the check: their right-hand
+  // side is itself rounding noise. residual (optional) receives relative_residual(X, B).
   Eigen::MatrixXd solve(const Eigen::MatrixXd& b, bool check_residual = true, SolveKernel kernel = SolveKernel::Auto,
                         double* residual = nullptr) const;
 
