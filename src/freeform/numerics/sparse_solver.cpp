@@ -31,6 +31,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <mutex>
 #include <new>
 #include <optional>
 #include <string>
@@ -200,9 +201,9 @@ const char* kind_name(SolverKind k) {
 // solve()'s bound on the relative residual, and the refinement steps it may take to meet it.
 // A solve that misses it is still taken when its normwise backward error is within
 // kMaxBackwardError: the exact solution of a nearby system, as accurate as the matrix's
-// conditioning allows (the order-3 operator of a CAD part's needle fans: relative residuals of
-// 1e-5 to 0.2 at backward errors of 1e-16; docs/bcm.md). How accurate that is, the caller
-// estimates (BcmSolver's forward error against the unassembled operator).
+// conditioning allows (the order-3 operator of a CAD part's needle fans, docs/bcm.md). How
+// accurate that is, the caller estimates (BcmSolver's forward error against the unassembled
+// operator).
 constexpr double kMaxResidual = 1e-6;
 constexpr int kRefinementSteps = 8;
 constexpr double kMaxBackwardError = 1e-12;
@@ -312,6 +313,8 @@ struct SparseSolver::Impl {
   std::string failure;  // why the preferred solver failed (for the message)
   std::optional<SupernodalSolve> schedule;  // CHOLMOD's factor solved on several cores
   FactorKernel factor_kernel = FactorKernel::Auto;
+  mutable std::once_flag frobenius_once;  // backward_error()
+  mutable double frobenius = 0.0;
 
   Eigen::VectorXd times(const Eigen::VectorXd& x) const {
     if (lower) return a.selfadjointView<Eigen::Lower>() * x;
@@ -321,12 +324,16 @@ struct SparseSolver::Impl {
   // max_j |A x_j - b_j| / (|A|_F |x_j| + |b_j|): the relative size of the smallest change of A
   // and b that x solves exactly (Rigal and Gaches), which a backward-stable factor keeps near
   // the rounding unit however ill-conditioned A is.
+  // |A|_F is computed once, on the first solve that needs it (the nonlinear model checks one
+  // solve per start).
   double backward_error(const Eigen::MatrixXd& x, const Eigen::MatrixXd& b) const {
-    double frobenius = 0.0;  // of the whole A where only its lower triangle is stored
-    for (int k = 0; k < a.outerSize(); ++k)
-      for (SpMat::InnerIterator e(a, k); e; ++e)
-        frobenius += (e.row() != e.col() && lower ? 2.0 : 1.0) * e.value() * e.value();
-    frobenius = std::sqrt(frobenius);
+    std::call_once(frobenius_once, [this] {
+      double sum = 0.0;  // of the whole A where only its lower triangle is stored
+      for (int k = 0; k < a.outerSize(); ++k)
+        for (SpMat::InnerIterator e(a, k); e; ++e)
+          sum += (e.row() != e.col() && lower ? 2.0 : 1.0) * e.value() * e.value();
+      frobenius = std::sqrt(sum);
+    });
     double worst = 0.0;
     for (Eigen::Index j = 0; j < b.cols(); ++j) {
       const double r = (times(x.col(j)) - b.col(j)).norm();
