@@ -1,6 +1,11 @@
 // Reading every supported variant of OBJ, OFF, PLY and STL.
 #include "io_test_util.h"
 
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
 namespace freeform::test {
 namespace {
 
@@ -37,6 +42,63 @@ TEST(ReadOff, CubeQuadsAreFanTriangulatedWithOneWarning) {
   EXPECT_EQ(r.soup.positions[6], Vec3(1, 1, 1));
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_THAT(r.warnings[0], HasSubstr("6 polygons"));
+}
+
+// A convex polygon of many corners (a CAD disc, a cylinder's cap) is cut into a strip, not a fan
+// that would give its first corner 1,021 triangles: the strip's triangles tile it (positive,
+// their areas summing to the polygon's), with its orientation, no corner in more than four.
+// Polygons of at most 8 corners and non-convex ones (a star) keep the fan, in OBJ and OFF alike.
+TEST(ReadObj, LargeConvexPolygonsAreCutIntoStripsAndOthersFanned) {
+  constexpr int n = 1024;
+  std::ostringstream vertices;
+  vertices.precision(17);
+  const auto ring = [&](int count, double inner, double z) {
+    for (int i = 0; i < count; ++i) {
+      const double a = 2.0 * std::numbers::pi * i / count, r = i % 2 == 1 ? inner : 1.0;
+      vertices << "v " << r * std::cos(a) << " " << r * std::sin(a) << " " << z << "\n";
+    }
+  };
+  ring(n, 1.0, 0.0);   // vertices 1 .. n: the disc
+  ring(6, 1.0, 1.0);   // a hexagon
+  ring(12, 0.5, 2.0);  // a twelve-pointed star
+  std::string disc = "f", hexagon = "f", star = "f";
+  for (int i = 1; i <= n; ++i) disc += " " + std::to_string(i);
+  for (int i = 1; i <= 6; ++i) hexagon += " " + std::to_string(n + i);
+  for (int i = 1; i <= 12; ++i) star += " " + std::to_string(n + 6 + i);
+  const std::string obj = vertices.str() + disc + "\n" + hexagon + "\n" + star + "\n";
+  const ReadResult r = read_file_mem(MeshFormat::Obj, obj, "disc.obj");
+  ASSERT_EQ(r.soup.faces.size(), std::size_t{n - 2 + 4 + 10});
+  std::vector<int> uses(r.soup.positions.size(), 0);
+  double area = 0.0;
+  for (int t = 0; t < n - 2; ++t) {
+    const Tri& f = r.soup.faces[static_cast<std::size_t>(t)];
+    const Vec3 normal =
+        (r.soup.positions[f[1]] - r.soup.positions[f[0]]).cross(r.soup.positions[f[2]] - r.soup.positions[f[0]]);
+    EXPECT_GT(normal.z(), 0.0) << "triangle " << t;
+    area += 0.5 * normal.z();
+    for (int v : f) {
+      ASSERT_LT(v, n);
+      ++uses[static_cast<std::size_t>(v)];
+    }
+  }
+  EXPECT_NEAR(area, 0.5 * n * std::sin(2.0 * std::numbers::pi / n), 1e-12);
+  EXPECT_LE(*std::max_element(uses.begin(), uses.end()), 4);
+  for (int i = 1; i < 5; ++i) EXPECT_EQ(r.soup.faces[n - 3 + i], (Tri{n, n + i, n + i + 1}));
+  for (int i = 1; i < 11; ++i) EXPECT_EQ(r.soup.faces[n + 1 + i], (Tri{n + 6, n + 6 + i, n + 7 + i}));
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_EQ(r.warnings[0],
+            "3 polygons with more than 3 vertices triangulated into 1036 triangles (1 convex one of "
+            "more than 8 corners cut into strips, the others fanned)");
+  std::ostringstream off_vertices;
+  off_vertices.precision(17);
+  for (const Vec3& p : r.soup.positions) off_vertices << p.x() << " " << p.y() << " " << p.z() << "\n";
+  std::string off = "OFF\n" + std::to_string(n + 18) + " 3 0\n" + off_vertices.str();
+  for (const auto& [first, count] : {std::pair{0, n}, std::pair{n, 6}, std::pair{n + 6, 12}}) {
+    off += std::to_string(count);
+    for (int i = 0; i < count; ++i) off += " " + std::to_string(first + i);
+    off += "\n";
+  }
+  EXPECT_EQ(read_file_mem(MeshFormat::Off, off, "disc.off").soup.faces, r.soup.faces);
 }
 
 TEST(ReadOff, ColoredWithCountsOnHeaderLine) {

@@ -4,6 +4,7 @@
 #include "freeform/bcm/bcm_system.h"
 #include "freeform/bcm/boundary_band.h"
 #include "freeform/bcm/patch.h"
+#include "freeform/bcm/stencil_check.h"
 
 #include "freeform/common/error.h"
 #include "freeform/common/parallel.h"
@@ -49,60 +50,6 @@ int row_count(const Patch& p, int max_dist) {
   int n = 0;
   while (n < static_cast<int>(p.dist.size()) && p.dist[static_cast<std::size_t>(n)] <= max_dist) ++n;
   return n;
-}
-
-// Rows of the order-k operator couple a vertex with its k-ring, so one vertex of valence d near
-// the free region makes ~d rows of ~d entries each (a 1M-corner polygon fanned around one
-// vertex: out of memory). Refused above this bound on the 2-ring size of a free vertex; a
-// regular mesh has 19 (k = 2), irregular real meshes stay below a few hundred.
-constexpr long kMaxStencil = 4096;
-
-struct StencilBound {
-  long bound = 0;  // past kMaxStencil once it passes, not summed further
-  Vertex worst;    // the highest valence among v and its neighbours
-};
-
-// Valences memoized in `cache` (-1: not yet; written by several threads, always the same value).
-StencilBound stencil_bound(const Mesh& mesh, Vertex v, VertexData<int>& cache) {
-  auto valence = [&](Vertex w) {
-    std::atomic_ref<int> slot(cache[w]);
-    int n = slot.load(std::memory_order_relaxed);
-    if (n < 0) slot.store(n = mesh.valence(w), std::memory_order_relaxed);
-    return n;
-  };
-  StencilBound out{valence(v) + 1, v};
-  for (Halfedge h : mesh.outgoing(v)) {
-    const Vertex w = mesh.to_vertex(h);
-    out.bound += valence(w) + 1;
-    if (valence(w) > valence(out.worst)) out.worst = w;
-    if (out.bound > kMaxStencil) break;
-  }
-  return out;
-}
-
-void check_stencil_size(const Mesh& mesh, const std::vector<Vertex>& free, int k) {
-  if (k < 2) return;
-  VertexData<int> cache(static_cast<std::size_t>(mesh.n_vertices()), -1);
-  // The first free vertex in order whose bound passes: the same refusal on any number of threads.
-  const auto n = static_cast<std::ptrdiff_t>(free.size());
-  std::atomic<std::ptrdiff_t> first{n};
-  parallel_for(n, 8192, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
-    for (auto i = begin; i < end && i < first.load(std::memory_order_relaxed); ++i)
-      if (stencil_bound(mesh, free[static_cast<std::size_t>(i)], cache).bound > kMaxStencil) {
-        std::ptrdiff_t seen = first.load();
-        while (i < seen && !first.compare_exchange_weak(seen, i)) {
-        }
-        return;
-      }
-  });
-  if (first.load() == n) return;
-  const Vertex v = free[static_cast<std::size_t>(first.load())];
-  const Vertex worst = stencil_bound(mesh, v, cache).worst;
-  throw InvalidInput("vertex " + std::to_string(worst.idx()) + " has " + std::to_string(mesh.valence(worst)) +
-                     " neighbours, next to free vertex " + std::to_string(v.idx()) + ": the order-" +
-                     std::to_string(k) + " operator would couple more than " + std::to_string(kMaxStencil) +
-                     " vertices in one row (memory grows with the square of the valence); remesh that fan, "
-                     "keep the vertex out of the support, or use order 1");
 }
 
 // The inputs' consistency with the mesh (sizes, segment vertices).

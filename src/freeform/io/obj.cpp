@@ -260,7 +260,7 @@ class ObjReader {
     }
     if (poly_.size() < 3)
       fail(name_, line_, fmt::format("face {} has {} vertices (at least 3 needed)", face_count_, poly_.size()));
-    fan_.add(poly_, out_.soup.faces, &out_.attributes);
+    fan_.add(poly_, out_.soup.positions, out_.soup.faces, &out_.attributes);
     ++face_count_;
   }
 

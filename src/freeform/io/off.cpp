@@ -210,7 +210,7 @@ void read_off(std::string_view data, const std::string& name, ReadResult& out) {
         lines.fail(fmt::format("face {}: vertex index {} out of range (file has {} vertices)", f, index, nv));
       poly.push_back(static_cast<int>(index));
     }
-    fan.add(poly, soup.faces, &out.attributes);
+    fan.add(poly, soup.positions, soup.faces, &out.attributes);
     double color[4] = {1, 1, 1, 1};
     const int n_color = rest_numbers(tokens, color, 4);  // a colour-map index (1 value) is not kept
     all_faces_colored = all_faces_colored && n_color >= 3;

@@ -53,7 +53,7 @@ void reserve_element(const Layout& layout, std::size_t e, std::size_t rows, std:
 // Keeps a face as a polygon and its fan triangles in the soup.
 void add_polygon(const std::vector<int>& poly, ReadResult& out, io_detail::FanCounter& fan) {
   const std::size_t before = out.soup.faces.size();
-  fan.add(poly, out.soup.faces);
+  fan.add(poly, out.soup.positions, out.soup.faces);
   MeshAttributes& a = out.attributes;
   a.triangle_polygon.insert(a.triangle_polygon.end(), out.soup.faces.size() - before, a.polygons.size());
   a.polygons.add(poly);

@@ -129,7 +129,7 @@ TriangleSoup read_ascii(std::string_view data, const std::string& name, std::vec
     }
     if (poly.size() < 3) tokens.fail(fmt::format("facet {} has {} vertices (at least 3 needed)", facet, poly.size()));
     expect("endfacet");
-    fan.add(poly, soup.faces);
+    fan.add(poly, soup.positions, soup.faces);
     ++facet;
   }
   fan.warn(warnings);

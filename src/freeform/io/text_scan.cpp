@@ -1,4 +1,5 @@
 #include "freeform/io/text_scan.h"
+#include "freeform/io/triangulate.h"
 
 #include <fmt/format.h>
 
@@ -82,13 +83,14 @@ std::string_view TokenReader::require(const char* what) {
   return token;
 }
 
-void FanCounter::add(const std::vector<int>& poly, std::vector<Tri>& faces, MeshAttributes* attributes) {
+void FanCounter::add(const std::vector<int>& poly, std::span<const Vec3> positions, std::vector<Tri>& faces,
+                     MeshAttributes* attributes) {
   if (attributes != nullptr) {
     const int polygon = attributes->polygons.size();
     attributes->polygons.add(poly);
     attributes->triangle_polygon.insert(attributes->triangle_polygon.end(), poly.size() - 2, polygon);
   }
-  for (std::size_t i = 1; i + 1 < poly.size(); ++i) faces.push_back({poly[0], poly[i], poly[i + 1]});
+  stripped += triangulate_polygon(poly, positions, faces) ? 1 : 0;
   if (poly.size() > 3) {
     ++polygons;
     triangles += poly.size() - 2;
@@ -96,9 +98,16 @@ void FanCounter::add(const std::vector<int>& poly, std::vector<Tri>& faces, Mesh
 }
 
 void FanCounter::warn(std::vector<std::string>& warnings) const {
-  if (polygons > 0)
+  if (polygons == 0) return;
+  if (stripped == 0) {
     warnings.push_back(fmt::format("{} polygon{} with more than 3 vertices fan-triangulated into {} triangles",
                                    polygons, polygons == 1 ? "" : "s", triangles));
+    return;
+  }
+  warnings.push_back(fmt::format(
+      "{} polygon{} with more than 3 vertices triangulated into {} triangles ({} convex one{} of more than {} "
+      "corners cut into strips, the others fanned)",
+      polygons, polygons == 1 ? "" : "s", triangles, stripped, stripped == 1 ? "" : "s", kFanCorners));
 }
 
 void require_nonempty(const TriangleSoup& soup, const std::string& name) {

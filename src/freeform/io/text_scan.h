@@ -10,6 +10,7 @@
 #include <charconv>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -142,7 +143,10 @@ inline constexpr std::uint64_t kMaxElements = 0x7fffffff;
 struct FanCounter {
   std::size_t polygons = 0;
   std::size_t triangles = 0;
-  void add(const std::vector<int>& poly, std::vector<Tri>& faces, MeshAttributes* attributes = nullptr);
+  std::size_t stripped = 0;  // large convex polygons cut into strips rather than fans (triangulate.h)
+  // Triangulates poly (corners into `positions`, the vertices read so far) into faces.
+  void add(const std::vector<int>& poly, std::span<const Vec3> positions, std::vector<Tri>& faces,
+           MeshAttributes* attributes = nullptr);
   // Appends the summary warning if any polygon was split.
   void warn(std::vector<std::string>& warnings) const;
 };
