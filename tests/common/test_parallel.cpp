@@ -8,10 +8,14 @@
 #include "freeform/common/held_threads.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
+#include <fstream>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -172,4 +176,34 @@ TEST(RunTasks, ItsThreadsHoldTheirSeats) {
   ids.clear();
   freeform::run_tasks(8, task);
   EXPECT_EQ(ids, std::set<std::thread::id>{std::this_thread::get_id()});
+}
+
+// Under an address-space limit a megabyte above the process's size (no room for a thread's 8 MB
+// stack), the sum of 0 .. n - 1 by parallel_for; exits 0 if it is right.
+[[noreturn]] void sum_with_no_room_for_a_thread() {
+  std::ifstream statm("/proc/self/statm");
+  std::size_t pages = 0;
+  statm >> pages;
+  const rlim_t size = pages * static_cast<rlim_t>(sysconf(_SC_PAGESIZE)) + (1 << 20);
+  const rlimit limit{size, size};
+  if (setrlimit(RLIMIT_AS, &limit) != 0) std::_Exit(2);
+  constexpr long n = 100000;
+  std::atomic<long> sum{0};
+  parallel_for(n, 1, [&](std::ptrdiff_t lo, std::ptrdiff_t hi) {
+    for (std::ptrdiff_t i = lo; i < hi; ++i) sum += static_cast<long>(i);
+  });
+  std::_Exit(sum == n * (n - 1) / 2 ? 0 : 1);
+}
+
+// A process whose address-space limit leaves no room for a thread's stack: the pool's first
+// loop starts no worker and runs every index on the caller. Until 2026-12-07 the failed start
+// escaped parallel_for as std::system_error and `freeform deform` aborted under `ulimit -v`
+// (the hostile sweep's memory caps at 150 MB). In a fresh process (the pool is made once).
+TEST(ParallelFor, NoThreadToBeHadRunsTheLoopOnTheCaller) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "ASan maps far more address space than a limit near the process's size allows";
+#else
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(sum_with_no_room_for_a_thread(), ::testing::ExitedWithCode(0), "");
+#endif
 }

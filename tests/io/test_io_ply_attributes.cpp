@@ -304,9 +304,12 @@ TEST(PlyAttributes, GeneratedFilesExposePolygonsColoursAndProperties) {
     EXPECT_EQ(r.format, MeshFormat::Ply);
     expect_float_positions(r.soup.positions, kPositions);
     EXPECT_EQ(r.soup.positions[6].z(), 1.0 / 3);  // a double property: exact
-    EXPECT_EQ(r.soup.faces, (std::vector<Tri>{{0, 1, 2}, {0, 2, 3}, {3, 2, 4}, {3, 4, 5}, {3, 5, 6}, {0, 3, 7}}));
+    // The pentagon turns clockwise at corner 2: its fan from corner 3 would overlap itself.
+    EXPECT_EQ(r.soup.faces, (std::vector<Tri>{{0, 1, 2}, {0, 2, 3}, {6, 3, 2}, {5, 6, 2}, {4, 5, 2}, {0, 3, 7}}));
     ASSERT_EQ(r.warnings.size(), 1u);
-    EXPECT_EQ(r.warnings[0], "2 polygons with more than 3 vertices fan-triangulated into 5 triangles");
+    EXPECT_EQ(r.warnings[0],
+              "2 polygons with more than 3 vertices triangulated into 5 triangles (1 non-convex one by ear clipping, "
+              "the others fanned)");
     const MeshAttributes& a = r.attributes;
     EXPECT_EQ(a.polygons.offsets, (std::vector<int>{0, 4, 9, 12}));
     EXPECT_EQ(a.polygons.corners, (std::vector<int>{0, 1, 2, 3, 3, 2, 4, 5, 6, 0, 3, 7}));

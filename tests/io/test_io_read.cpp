@@ -44,11 +44,28 @@ TEST(ReadOff, CubeQuadsAreFanTriangulatedWithOneWarning) {
   EXPECT_THAT(r.warnings[0], HasSubstr("6 polygons"));
 }
 
+// The triangles of faces [first, first + count): each with the polygon's orientation (+z), their
+// areas' sum (they tile the polygon when it equals the polygon's own), and per vertex how many
+// use it.
+double tiled_area(const TriangleSoup& soup, int first, int count, std::vector<int>& uses) {
+  double area = 0.0;
+  for (int t = first; t < first + count; ++t) {
+    const Tri& f = soup.faces[static_cast<std::size_t>(t)];
+    const Vec3 normal =
+        (soup.positions[f[1]] - soup.positions[f[0]]).cross(soup.positions[f[2]] - soup.positions[f[0]]);
+    EXPECT_GT(normal.z(), 0.0) << "triangle " << t;
+    area += 0.5 * normal.z();
+    for (int v : f) ++uses[static_cast<std::size_t>(v)];
+  }
+  return area;
+}
+
 // A convex polygon of many corners (a CAD disc, a cylinder's cap) is cut into a strip, not a fan
-// that would give its first corner 1,021 triangles: the strip's triangles tile it (positive,
-// their areas summing to the polygon's), with its orientation, no corner in more than four.
-// Polygons of at most 8 corners and non-convex ones (a star) keep the fan, in OBJ and OFF alike.
-TEST(ReadObj, LargeConvexPolygonsAreCutIntoStripsAndOthersFanned) {
+// that would give its first corner 1,021 triangles: the strip's triangles tile it, with its
+// orientation, no corner in more than four. A twelve-pointed star is cut by ear clipping (its fan
+// from a tip overlaps itself: triangles of both orientations); a hexagon keeps the fan. OBJ and
+// OFF alike.
+TEST(ReadObj, LargeConvexPolygonsAreCutIntoStripsAndNonConvexOnesByEarClipping) {
   constexpr int n = 1024;
   std::ostringstream vertices;
   vertices.precision(17);
@@ -69,26 +86,15 @@ TEST(ReadObj, LargeConvexPolygonsAreCutIntoStripsAndOthersFanned) {
   const ReadResult r = read_file_mem(MeshFormat::Obj, obj, "disc.obj");
   ASSERT_EQ(r.soup.faces.size(), std::size_t{n - 2 + 4 + 10});
   std::vector<int> uses(r.soup.positions.size(), 0);
-  double area = 0.0;
-  for (int t = 0; t < n - 2; ++t) {
-    const Tri& f = r.soup.faces[static_cast<std::size_t>(t)];
-    const Vec3 normal =
-        (r.soup.positions[f[1]] - r.soup.positions[f[0]]).cross(r.soup.positions[f[2]] - r.soup.positions[f[0]]);
-    EXPECT_GT(normal.z(), 0.0) << "triangle " << t;
-    area += 0.5 * normal.z();
-    for (int v : f) {
-      ASSERT_LT(v, n);
-      ++uses[static_cast<std::size_t>(v)];
-    }
-  }
-  EXPECT_NEAR(area, 0.5 * n * std::sin(2.0 * std::numbers::pi / n), 1e-12);
-  EXPECT_LE(*std::max_element(uses.begin(), uses.end()), 4);
+  EXPECT_NEAR(tiled_area(r.soup, 0, n - 2, uses), 0.5 * n * std::sin(2.0 * std::numbers::pi / n), 1e-12);
+  EXPECT_LE(*std::max_element(uses.begin(), uses.begin() + n), 4);
   for (int i = 1; i < 5; ++i) EXPECT_EQ(r.soup.faces[n - 3 + i], (Tri{n, n + i, n + i + 1}));
-  for (int i = 1; i < 11; ++i) EXPECT_EQ(r.soup.faces[n + 1 + i], (Tri{n + 6, n + 6 + i, n + 7 + i}));
+  // The star: 12 triangles of (1 * 0.5 * sin 30 deg) / 2 around its centre.
+  EXPECT_NEAR(tiled_area(r.soup, n + 2, 10, uses), 12 * 0.25 * std::sin(std::numbers::pi / 6), 1e-12);
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_EQ(r.warnings[0],
             "3 polygons with more than 3 vertices triangulated into 1036 triangles (1 convex one of "
-            "more than 8 corners cut into strips, the others fanned)");
+            "more than 8 corners cut into strips, 1 non-convex one by ear clipping, the others fanned)");
   std::ostringstream off_vertices;
   off_vertices.precision(17);
   for (const Vec3& p : r.soup.positions) off_vertices << p.x() << " " << p.y() << " " << p.z() << "\n";

@@ -144,7 +144,12 @@ class Pool {
 
   Pool() {
     const int n = thread_budget() - 1;
-    for (int i = 0; i < n; ++i) threads_.emplace_back([this] { sleep_and_work(); });
+    try {
+      for (int i = 0; i < n; ++i) threads_.emplace_back([this] { sleep_and_work(); });
+    } catch (const std::system_error&) {
+      // No thread to be had (an address-space limit leaves no room for its stack): the loops
+      // run on the workers that did start, or on the caller alone.
+    }
   }
   ~Pool() {
     {

@@ -90,7 +90,9 @@ void FanCounter::add(const std::vector<int>& poly, std::span<const Vec3> positio
     attributes->polygons.add(poly);
     attributes->triangle_polygon.insert(attributes->triangle_polygon.end(), poly.size() - 2, polygon);
   }
-  stripped += triangulate_polygon(poly, positions, faces) ? 1 : 0;
+  const Cut cut = triangulate_polygon(poly, positions, faces);
+  stripped += cut == Cut::Strip ? 1 : 0;
+  clipped += cut == Cut::Ears ? 1 : 0;
   if (poly.size() > 3) {
     ++polygons;
     triangles += poly.size() - 2;
@@ -99,15 +101,20 @@ void FanCounter::add(const std::vector<int>& poly, std::span<const Vec3> positio
 
 void FanCounter::warn(std::vector<std::string>& warnings) const {
   if (polygons == 0) return;
-  if (stripped == 0) {
+  const std::string plural = polygons == 1 ? "" : "s";
+  if (stripped == 0 && clipped == 0) {
     warnings.push_back(fmt::format("{} polygon{} with more than 3 vertices fan-triangulated into {} triangles",
-                                   polygons, polygons == 1 ? "" : "s", triangles));
+                                   polygons, plural, triangles));
     return;
   }
-  warnings.push_back(fmt::format(
-      "{} polygon{} with more than 3 vertices triangulated into {} triangles ({} convex one{} of more than {} "
-      "corners cut into strips, the others fanned)",
-      polygons, polygons == 1 ? "" : "s", triangles, stripped, stripped == 1 ? "" : "s", kFanCorners));
+  std::vector<std::string> how;
+  if (stripped > 0)
+    how.push_back(fmt::format("{} convex one{} of more than {} corners cut into strips", stripped,
+                              stripped == 1 ? "" : "s", kFanCorners));
+  if (clipped > 0) how.push_back(fmt::format("{} non-convex one{} by ear clipping", clipped, clipped == 1 ? "" : "s"));
+  how.push_back(stripped + clipped == polygons ? "none fanned" : "the others fanned");
+  warnings.push_back(fmt::format("{} polygon{} with more than 3 vertices triangulated into {} triangles ({})", polygons,
+                                 plural, triangles, fmt::join(how, ", ")));
 }
 
 void require_nonempty(const TriangleSoup& soup, const std::string& name) {

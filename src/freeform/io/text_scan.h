@@ -143,7 +143,8 @@ inline constexpr std::uint64_t kMaxElements = 0x7fffffff;
 struct FanCounter {
   std::size_t polygons = 0;
   std::size_t triangles = 0;
-  std::size_t stripped = 0;  // large convex polygons cut into strips rather than fans (triangulate.h)
+  std::size_t stripped = 0;  // large convex polygons cut into strips (triangulate.h)
+  std::size_t clipped = 0;   // non-convex polygons cut by ear clipping
   // Triangulates poly (corners into `positions`, the vertices read so far) into faces.
   void add(const std::vector<int>& poly, std::span<const Vec3> positions, std::vector<Tri>& faces,
            MeshAttributes* attributes = nullptr);
