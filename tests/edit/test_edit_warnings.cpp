@@ -7,6 +7,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -83,4 +84,43 @@ TEST(EditWarnings, TheAnisotropicFallbackIsNamed) {
   const std::vector<std::string> w = edit_warnings(solver);
   ASSERT_EQ(w.size(), 1u);
   EXPECT_THAT(w[0], HasSubstr("anisotropic bending fell back to the isotropic operator"));
+}
+
+// A 21 x 21 plane cut along x = 0.5 as files split their vertices along texture seams: the
+// column there twice, the left faces on one copy, the right faces on the other. A support across
+// the cut opens it (the two copies are solved apart), and the warning says where.
+TEST(EditWarnings, AnOpenSeamInTheSupportIsNamed) {
+  constexpr int n = 21, cut = 10;
+  TriangleSoup soup;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) soup.positions.emplace_back(i / double(n - 1), j / double(n - 1), 0.0);
+  for (int j = 0; j < n; ++j) soup.positions.push_back(soup.positions[static_cast<std::size_t>(j * n + cut)]);
+  const auto at = [&](int i, int j, bool right) { return i == cut && right ? n * n + j : j * n + i; };
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      const bool right = i >= cut;
+      soup.faces.push_back({at(i, j, right), at(i + 1, j, right), at(i + 1, j + 1, right)});
+      soup.faces.push_back({at(i, j, right), at(i + 1, j + 1, right), at(i, j + 1, right)});
+    }
+  const Mesh mesh = Mesh::from_soup(soup);
+  const Edit edit = parse_edit_text(R"({"support": {"sphere": {"center": [0.4, 0.5, 0], "radius": 0.31}},
+      "handles": [{"region": {"sphere": {"center": [0.4, 0.5, 0], "radius": 0.11}},
+                   "transform": {"translate": [0, 0, 0.05]}}]})",
+                                    mesh, "test", ".");
+  const EditSolver solver(mesh, edit);
+  const std::array<Vertex, 2> pair = solver.stats().open_seam_example;
+  EXPECT_EQ(mesh.position(pair[0]), mesh.position(pair[1]));
+  EXPECT_NE(pair[0], pair[1]);
+  VertexData<Vec3> positions = mesh.positions();
+  solver.evaluate(solver.transforms(edit), positions);
+  const std::vector<std::string> warnings = edit_warnings(solver, solver.problems(positions));
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0],
+              HasSubstr(std::to_string(solver.stats().open_seam_vertices) + " free vertices lie on an open seam"));
+  EXPECT_THAT(warnings[0],
+              HasSubstr("(e.g. " + std::to_string(pair[0].idx()) + " and " + std::to_string(pair[1].idx()) + ")"));
+  // 0.31 about x = 0.4 reaches the cut at rows 0.25 .. 0.75, both copies free but at 0.5 (the
+  // handle's).
+  EXPECT_EQ(solver.stats().open_seam_vertices, 20);
+  EXPECT_GT((positions[Vertex(8 * n + cut)] - positions[Vertex(n * n + 8)]).norm(), 1e-3);  // it opened at 0.4
 }

@@ -118,6 +118,12 @@ std::vector<std::string> edit_warnings(const EditSolver& solver, const EditProbl
     out.push_back(fmt::format("{} degenerate triangles (no stiffness) and {} clamped cotangents (needle-thin "
                               "triangles) in the support's operator",
                               st.degenerate_faces, st.clamped_cotangents));
+  if (const EditStats& stats = solver.stats(); stats.open_seam_vertices > 0)
+    out.push_back(
+        fmt::format("{} free vertices lie on an open seam: each has the position of another boundary vertex "
+                    "that the mesh does not join to it (e.g. {} and {}), so the surface may open there; "
+                    "weld them in the file to deform across it",
+                    stats.open_seam_vertices, stats.open_seam_example[0].idx(), stats.open_seam_example[1].idx()));
   if (solver.stats().isolated_ignored > 0)
     out.push_back(fmt::format("{} support vertices belong to no triangle (isolated): they were left where they are",
                               solver.stats().isolated_ignored));

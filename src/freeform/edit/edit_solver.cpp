@@ -2,6 +2,7 @@
 
 #include "freeform/common/error.h"
 #include "freeform/common/json_messages.h"
+#include "freeform/mesh/seams.h"
 #include "freeform/multires/operator_shape.h"
 
 #include <fmt/format.h>
@@ -117,6 +118,10 @@ void EditSolver::build(const Mesh& mesh, const Edit& edit, const Progress& progr
   if (!nonlinear && !edit.allow_unanchored) refuse_unanchored_closed_components(mesh, regions_);
   for (Vertex v : edit.support)
     if (v.idx() >= 0 && v.idx() < mesh.n_vertices() && !mesh.halfedge(v).is_valid()) ++stats_.isolated_ignored;
+  if (const auto seam = open_seam_pairs(mesh, regions_.free_vertices()); !seam.empty()) {
+    stats_.open_seam_vertices = static_cast<int>(seam.size());
+    stats_.open_seam_example = seam.front();
+  }
   // The BCM system's ordering runs on another thread during the operator shape (bcm_analysis.h).
   BcmAnalysis analysis(mesh, regions_, edit.settings);
   // The smooth foot-point shape: the nonlinear model's base operator, and for both models what

@@ -17,6 +17,7 @@
 
 #include <Eigen/Geometry>
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <span>
@@ -30,6 +31,10 @@ struct EditStats {
   BcmStats bcm;                            // assembly, factorization, basis, solver, anisotropy
   std::optional<MultiresStats> multires;   // set with multiresolution
   int isolated_ignored = 0;                // support vertices in no face, kept fixed (edit_regions)
+  // Free vertices on an open seam (mesh/seams.h: at the position of another boundary vertex the
+  // mesh does not join to them), and the first such pair: the surface may open there.
+  int open_seam_vertices = 0;
+  std::array<Vertex, 2> open_seam_example{};
   // The precompute's wall and CPU time, whole and per phase (operator_shape with
   // multiresolution, BCM's phases, then model_setup: the detail's encoding and the nonlinear
   // model's setup); the phases add up to the whole.

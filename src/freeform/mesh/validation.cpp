@@ -26,18 +26,6 @@ struct PositionKeyHash {
 
 std::uint64_t bits(double d) { return std::bit_cast<std::uint64_t>(d == 0.0 ? 0.0 : d); }  // -0 == +0
 
-std::vector<std::array<int, 2>> find_duplicates(const std::vector<Vec3>& positions) {
-  std::unordered_map<PositionKey, int, PositionKeyHash> first;
-  first.reserve(positions.size());
-  std::vector<std::array<int, 2>> dups;
-  for (std::size_t v = 0; v < positions.size(); ++v) {
-    const Vec3& p = positions[v];
-    auto [it, inserted] = first.try_emplace(PositionKey{bits(p.x()), bits(p.y()), bits(p.z())}, static_cast<int>(v));
-    if (!inserted) dups.push_back({it->second, static_cast<int>(v)});
-  }
-  return dups;
-}
-
 bool zero_area(const TriangleSoup& soup, const Tri& t) {
   const Vec3 &a = soup.positions[t[0]], &b = soup.positions[t[1]], &c = soup.positions[t[2]];
   const double longest2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
@@ -63,6 +51,18 @@ void summarize_topology(const Mesh& mesh, ValidationReport& r) {
 }
 
 }  // namespace
+
+std::vector<std::array<int, 2>> coincident_positions(const std::vector<Vec3>& positions) {
+  std::unordered_map<PositionKey, int, PositionKeyHash> first;
+  first.reserve(positions.size());
+  std::vector<std::array<int, 2>> dups;
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    const Vec3& p = positions[v];
+    auto [it, inserted] = first.try_emplace(PositionKey{bits(p.x()), bits(p.y()), bits(p.z())}, static_cast<int>(v));
+    if (!inserted) dups.push_back({it->second, static_cast<int>(v)});
+  }
+  return dups;
+}
 
 ValidationReport validate(const TriangleSoup& soup) {
   ValidationReport r;
@@ -91,7 +91,7 @@ ValidationReport validate(const TriangleSoup& soup) {
   r.inconsistent_edges = topo.inconsistent_edges;
   for (int v = 0; v < r.vertices; ++v)
     if (topo.fan_count[v] > 1) r.nonmanifold_vertices.push_back(v);
-  r.duplicate_vertices = find_duplicates(soup.positions);
+  r.duplicate_vertices = coincident_positions(soup.positions);
   summarize_topology(repaired, r);
   return r;
 }

@@ -42,4 +42,7 @@ struct ValidationReport {
 // Throws InvalidInput for indices out of range or non-finite positions (not a mesh at all).
 ValidationReport validate(const TriangleSoup& soup);
 
+// Pairs (first, later) of indices at exactly the same position (-0 equal to +0).
+std::vector<std::array<int, 2>> coincident_positions(const std::vector<Vec3>& positions);
+
 }  // namespace freeform
