@@ -224,6 +224,17 @@ TriangleSoup fanned_cap(int segments) {
   return soup;
 }
 
+// The cap's support r < `radius` with `handle` lifted by 0.5.
+Edit lifted(const Mesh& mesh, double radius, const std::vector<Vertex>& handle) {
+  Edit edit;
+  edit.support = within(mesh, Vec3::Zero(), radius);
+  EditHandle h;
+  h.vertices = handle;
+  h.matrix = Eigen::Affine3d(Eigen::Translation3d(0, 0, 0.5));
+  edit.handles.push_back(h);
+  return edit;
+}
+
 // Its centre lifted at k = 3 (support r < 2.3). With 600 segments (corners of 0.6 degrees) the
 // order-3 solve's relative residual is about 1e-4, far over the 1e-6 bound that refused it
 // until 2026-12-07, yet the result is accurate (its forward error against the unassembled
@@ -231,12 +242,7 @@ TriangleSoup fanned_cap(int segments) {
 TEST(HostileGeometry, ACadCapFannedInto600SegmentsSolvesAtOrder3) {
   constexpr int segments = 600;
   const Mesh mesh = Mesh::from_soup(fanned_cap(segments));
-  Edit edit;
-  edit.support = within(mesh, Vec3::Zero(), 2.3);
-  EditHandle handle;
-  handle.vertices = {Vertex(0)};
-  handle.matrix = Eigen::Affine3d(Eigen::Translation3d(0, 0, 0.5));
-  edit.handles.push_back(handle);
+  Edit edit = lifted(mesh, 2.3, {Vertex(0)});
   edit.settings.order = 3;
   for (const Deformation deformation : {Deformation::Linear, Deformation::Nonlinear}) {
     SCOPED_TRACE(deformation == Deformation::Linear ? "linear" : "nonlinear");
@@ -262,6 +268,22 @@ TEST(HostileGeometry, ACadCapFannedInto600SegmentsSolvesAtOrder3) {
   }
 }
 
+// The edit (one handle, translated) solved at orders 2 and 3, each kept: vertices [first, last)
+// moved exactly as the handle, to 1e-9.
+void expect_translated_at_orders_2_and_3(const Mesh& mesh, Edit edit, int first, int last) {
+  const Vec3 t = edit.handles.at(0).matrix.value().translation();
+  for (const int order : {2, 3}) {
+    SCOPED_TRACE(testing::Message() << "k = " << order);
+    edit.settings.order = order;
+    const EditSolver solver(mesh, edit);
+    EXPECT_EQ(solver.settings().order, order) << solver.stats().order_fallback;
+    VertexData<Vec3> p = mesh.positions();
+    solver.evaluate(solver.transforms(edit), p);
+    for (int v = first; v < last; ++v)
+      ASSERT_LT((p[Vertex(v)] - mesh.position(Vertex(v)) - t).norm(), 1e-9) << "vertex " << v;
+  }
+}
+
 // The same cap of 600 segments with its centre free: the rings at radius 1.5 to 2.5 lifted by 0.5
 // (the rim at 3 fixed). The centre's 600 neighbours of valence 6 summed to a bound of 4,800
 // vertices per row, which refused it until 2026-12-07 at every order; its k-rings hold 1,201
@@ -272,28 +294,15 @@ TEST(HostileGeometry, ACadCapFannedInto600SegmentsSolvesAtOrder3) {
 TEST(HostileGeometry, ACadCapWhoseFreeCentreHas600NeighboursSolves) {
   constexpr int segments = 600;
   const Mesh mesh = Mesh::from_soup(fanned_cap(segments));
-  Edit edit;
-  edit.support = within(mesh, Vec3::Zero(), 2.8);
-  EditHandle handle;
-  for (int v = 1 + 2 * segments; v < 1 + 5 * segments; ++v) handle.vertices.emplace_back(v);
-  handle.matrix = Eigen::Affine3d(Eigen::Translation3d(0, 0, 0.5));
-  edit.handles.push_back(handle);
-  for (const int order : {2, 3}) {
-    SCOPED_TRACE(testing::Message() << "k = " << order);
-    edit.settings.order = order;
-    const EditSolver solver(mesh, edit);
-    EXPECT_EQ(solver.settings().order, order) << solver.stats().order_fallback;
-    VertexData<Vec3> p = mesh.positions();
-    solver.evaluate(solver.transforms(edit), p);
-    for (int v = 0; v <= 2 * segments; ++v)  // the centre and the rings at 0.5 and 1
-      ASSERT_LT((p[Vertex(v)] - mesh.position(Vertex(v)) - Vec3(0, 0, 0.5)).norm(), 1e-9) << "vertex " << v;
-  }
+  std::vector<Vertex> rings;  // at radii 1.5, 2 and 2.5
+  for (int v = 1 + 2 * segments; v < 1 + 5 * segments; ++v) rings.emplace_back(v);
+  const Edit edit = lifted(mesh, 2.8, rings);
+  expect_translated_at_orders_2_and_3(mesh, edit, 0, 1 + 2 * segments);  // the centre, rings at 0.5 and 1
   const Mesh large = Mesh::from_soup(fanned_cap(2000));
-  Edit refused = edit;
+  std::vector<Vertex> large_rings;
+  for (int v = 1 + 2 * 2000; v < 1 + 5 * 2000; ++v) large_rings.emplace_back(v);
+  Edit refused = lifted(large, 2.8, large_rings);
   refused.settings.order = 3;
-  refused.support = within(large, Vec3::Zero(), 2.8);
-  refused.handles[0].vertices.clear();
-  for (int v = 1 + 2 * 2000; v < 1 + 5 * 2000; ++v) refused.handles[0].vertices.emplace_back(v);
   try {
     (void)EditSolver(large, refused);
     ADD_FAILURE() << "expected InvalidInput";
@@ -337,16 +346,7 @@ TEST(HostileGeometry, ACylinderWithCapsOf1024CornersDeformsAtEveryOrder) {
   edit.support.insert(edit.support.end(), handle.vertices.begin(), handle.vertices.end());
   handle.matrix = Eigen::Affine3d(Eigen::Translation3d(0.1, 0, 0.5));
   edit.handles.push_back(handle);
-  for (const int order : {2, 3}) {
-    SCOPED_TRACE(testing::Message() << "k = " << order);
-    edit.settings.order = order;
-    const EditSolver solver(mesh, edit);
-    EXPECT_EQ(solver.settings().order, order) << solver.stats().order_fallback;
-    VertexData<Vec3> p = mesh.positions();
-    solver.evaluate(solver.transforms(edit), p);
-    for (int v = 5 * segments; v < mesh.n_vertices(); ++v)
-      ASSERT_LT((p[Vertex(v)] - mesh.position(Vertex(v)) - Vec3(0.1, 0, 0.5)).norm(), 1e-9) << "vertex " << v;
-  }
+  expect_translated_at_orders_2_and_3(mesh, edit, 5 * segments, mesh.n_vertices());
 }
 
 // A CAD part's needle triangles (assimp-testmodels' two-cylinder engine, a bump of the gallery's
