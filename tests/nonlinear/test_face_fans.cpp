@@ -171,6 +171,30 @@ TEST(FaceFans, SmoothOnsetIsContinuouslyDifferentiableAndResistsAllStretch) {
   }
 }
 
+// A grown face's target (OneSided::grown, a target of g times the rest length): an edge whose
+// length lies between the rest's and the grown target's is taken as it is (the target scale is
+// its own stretch: no force along it), a shorter one is pushed out as an ungrown edge is, from
+// its rest length, and a longer one pulled back as before; continuous where the cases meet.
+TEST(FaceFans, GrownTargetTakesLengthsBetweenRestAndGrownAndPushesFromTheRest) {
+  OneSided grown;
+  grown.grown = 1.6;
+  for (int i = 0; i <= 6; ++i) {  // lengths in rest lengths
+    const double length = 1.0 + 0.1 * i, stretch = length / grown.grown;
+    EXPECT_DOUBLE_EQ(FaceFans::target_scale(stretch, grown), stretch) << length;
+  }
+  for (int i = 2; i <= 9; ++i) {
+    const double length = 0.1 * i;
+    const double pushed = FaceFans::target_scale(length / grown.grown, grown) * grown.grown;
+    EXPECT_NEAR(pushed, FaceFans::target_scale(length), 1e-12) << length;  // in rest lengths
+    EXPECT_GT(pushed, 1.0) << length;
+  }
+  for (double stretch = 1.0; stretch < 2.0; stretch += 0.1)
+    EXPECT_EQ(FaceFans::target_scale(stretch, grown), FaceFans::target_scale(stretch)) << stretch;
+  const double at_rest = 1.0 / grown.grown;
+  EXPECT_NEAR(FaceFans::target_scale(at_rest - 1e-9, grown), at_rest, 1e-8);
+  EXPECT_NEAR(FaceFans::target_scale(1.0 - 1e-9, grown), 1.0, 1e-8);
+}
+
 // Rigid motions and the rest give the plain right-hand side (every edge's stretch is exactly 1
 // at rest), and a uniform shrink by c with identity rotations gives that of the common scale
 // target_scale(c): (target_scale(c) - 1) times the rest Laplacian coordinates.

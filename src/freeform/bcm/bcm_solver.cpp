@@ -107,35 +107,15 @@ VertexData<Vec3> unit_scaled(const VertexData<Vec3>& p) {
   return VertexData<Vec3>(std::move(out));
 }
 
-// A factorization or basis solve that failed without degenerate triangles, with the likely
-// cause: the support's thinnest triangle (the k-th power of a needle's cotangent and area ratios
-// exceeds what double precision resolves; a CAD part's fans).
-constexpr double kNeedleDegrees = 1.0;  // a smaller corner is named as the likely cause
+// A factorization or basis solve that failed without degenerate triangles, with the likely cause.
 SolverError explain_ill_conditioned(const SolverError& e, const Mesh& mesh, const std::vector<Vertex>& free,
                                     int order) {
-  double smallest = 180.0;
-  int face = -1;
-  for (Vertex v : free)
-    for (Halfedge h : mesh.outgoing(v)) {
-      const Face f = mesh.face(h);
-      if (!f.is_valid()) continue;
-      const detail::FaceCorners c = detail::face_corners(mesh, f);
-      const detail::TriangleGeometry g =
-          detail::triangle_geometry(mesh.position(c.v[0]), mesh.position(c.v[1]), mesh.position(c.v[2]));
-      for (const double dot : g.dot) {
-        const double angle = std::atan2(g.double_area, dot) * 180.0 / std::numbers::pi;
-        if (angle < smallest) smallest = angle, face = f.idx();
-      }
-    }
-  if (face < 0 || smallest >= kNeedleDegrees)
+  const std::string needle = needle_cause(mesh, free, order);
+  if (needle.empty())
     return SolverError(std::string(e.what()) +
                        "; the support's operator is singular: check the support for "
                        "coincident vertices and near-zero edges");
-  char angle[32];
-  std::snprintf(angle, sizeof angle, "%.3g", smallest);
-  return SolverError(std::string(e.what()) + "; the support's thinnest triangle (face " + std::to_string(face) +
-                     ", a corner of " + angle + " degrees) makes the order-" + std::to_string(order) +
-                     " system too ill-conditioned: use a lower order or keep needle triangles out of the support");
+  return SolverError(std::string(e.what()) + "; " + needle);
 }
 
 // A failed factorization with the likely cause: degenerate triangles carry no stiffness, so the
@@ -177,6 +157,33 @@ AnisotropicDomain support_domain(const Mesh& mesh, const Regions& regions, int o
 }
 
 }  // namespace
+
+// The k-th power of a needle's cotangent and area ratios exceeds what double precision resolves
+// (a CAD part's fans): its smallest corner below this is named as the likely cause.
+constexpr double kNeedleDegrees = 1.0;
+
+std::string needle_cause(const Mesh& mesh, const std::vector<Vertex>& free, int order) {
+  double smallest = 180.0;
+  int face = -1;
+  for (Vertex v : free)
+    for (Halfedge h : mesh.outgoing(v)) {
+      const Face f = mesh.face(h);
+      if (!f.is_valid()) continue;
+      const detail::FaceCorners c = detail::face_corners(mesh, f);
+      const detail::TriangleGeometry g =
+          detail::triangle_geometry(mesh.position(c.v[0]), mesh.position(c.v[1]), mesh.position(c.v[2]));
+      for (const double dot : g.dot) {
+        const double angle = std::atan2(g.double_area, dot) * 180.0 / std::numbers::pi;
+        if (angle < smallest) smallest = angle, face = f.idx();
+      }
+    }
+  if (face < 0 || smallest >= kNeedleDegrees) return {};
+  char angle[32];
+  std::snprintf(angle, sizeof angle, "%.3g", smallest);
+  return "the support's thinnest triangle (face " + std::to_string(face) + ", a corner of " + angle +
+         " degrees) makes the order-" + std::to_string(order) +
+         " system too ill-conditioned: use a lower order or keep needle triangles out of the support";
+}
 
 BcmSolver::BcmSolver(const Mesh& mesh, const Regions& regions, const BcmSettings& settings,
                      const Progress& progress, const VertexData<Vec3>* operator_positions, bool keep_system,

@@ -67,6 +67,11 @@ struct BcmStats {
   double parametrization_ms = 0;
 };
 
+// Why an order-k system on these free vertices may be beyond double precision: their faces'
+// thinnest triangle, named where its smallest corner is below 1 degree (a CAD part's needle
+// fans); empty otherwise.
+std::string needle_cause(const Mesh& mesh, const std::vector<Vertex>& free, int order);
+
 // The support at the rest transforms (every handle where it stands) from one 3-column solve,
 // refined as BcmSolver's, without the basis that frames need: for a fill solved once (the
 // multiresolution's membrane, multires/operator_shape.h). Isotropic operator only.

@@ -87,9 +87,12 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
   std::string failure;
   try {
     build(mesh, edit, progress);
-    if (edit.settings.order == 3 && !(stats_.bcm.forward_error <= kForwardErrorWarning))
+    if (edit.settings.order == 3 && !(stats_.bcm.forward_error <= kForwardErrorWarning)) {
       failure = fmt::format("the order-3 solve's estimated error is {:.2g} of the bounding-box diagonal",
                             stats_.bcm.forward_error);
+      if (const std::string needle = needle_cause(mesh, regions_.free_vertices(), 3); !needle.empty())
+        failure += "; " + needle;
+    }
   } catch (const SolverError& e) {
     if (edit.settings.order < 3) throw;
     failure = std::string("the order-3 system failed (") + e.what() + ")";

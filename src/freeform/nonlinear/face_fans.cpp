@@ -108,6 +108,15 @@ double FaceFans::target_scale(double stretch, const OneSided& one_sided) {
   // An edge turned against its target (a cold start's first step under a large rotation)
   // counts as fully compressed, not more.
   stretch = std::clamp(stretch, 0.0, kMaxStretch);
+  if (one_sided.grown > 1.0 && stretch < 1.0) {
+    // An edge between its rest length and its grown target is taken as it is; a shorter one is
+    // pushed out from its rest length, as an ungrown edge is.
+    const double from_rest = stretch * one_sided.grown;
+    if (from_rest >= 1.0) return stretch;
+    OneSided ungrown = one_sided;
+    ungrown.grown = 1.0;
+    return target_scale(from_rest, ungrown) / one_sided.grown;
+  }
   if (stretch < 1.0) {
     const double u = 1.0 - stretch, w = one_sided.onset;
     return 1.0 + one_sided.compression_gain * (u >= w ? u - 0.5 * w : 0.5 * u * u / w);

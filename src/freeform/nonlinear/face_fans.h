@@ -32,6 +32,13 @@ struct OneSided {
   // The stretch share on a face where the rotation field bends rather than twists
   // (FaceFans::where_bent); no effect at or below stretch_share.
   double bent_stretch_share = 0.0;
+  // Where a handle grows the support (growth_taken, on small supports): the scale in the face's
+  // targets, where above 1 (NonlinearSolver sets it per face and iteration). An edge between its
+  // rest length and its grown target is then taken as it is, and a shorter one pushed out from
+  // its rest length: growth is not forced on a band that the geometry shortens, next to a fixed
+  // rim (docs/nonlinear.md, "What the gallery found", 64).
+  bool growth_taken = false;
+  double grown = 1.0;
 };
 
 class FaceFans {
@@ -77,7 +84,7 @@ class FaceFans {
   // The membrane target's scale for an edge stretched by `stretch` along its target (the
   // projection that minimizes |e - s M r|, 1 for an unchanged edge): by default a compressed
   // edge is pushed out beyond its rest length, a stretched one is pulled back only halfway;
-  // both bounded (docs/nonlinear.md, "What the gallery found", 21 and 28).
+  // both bounded (docs/nonlinear.md, "What the gallery found", 21 and 28); grown faces: OneSided::grown.
   static double target_scale(double stretch, const OneSided& one_sided = {});
 
   // How much of the rotation field's change over face f turns about axes across its edges

@@ -138,6 +138,10 @@ struct NonlinearSolver::Data {
   std::vector<Eigen::Matrix3d> means;      // per face of the fans (arap_rows' workspace)
   std::vector<FaceFans::EdgeTerms> terms;  // per face of the fans, with one-sided targets (arap_rows')
   std::vector<Eigen::Matrix3d> cov, cov2;  // workspace of the rotation fit
+  // Per free row: the guidance's scale, and the trace of its smoothed rest covariance (the fitted
+  // scale's denominator, computed on the first fit where a handle grows; fit_growth()).
+  std::vector<double> guide_scale, rest_trace;
+  bool grows = false;
   // The membrane term (add_membrane), with each part of the support's settings (part_settings.h):
   // per free row its weight mu and lagged weight (lagged mu); per face of the fans its targets;
   // on the parts with a local membrane its own rotations, fitted to the 1-ring alone (ARAP's
@@ -400,6 +404,7 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
   }
   d.ac = d.sys->a_pc * dc;
   // Guidance: rotation vectors and log scales blended with BCM's weights.
+  d.guide_scale.resize(static_cast<std::size_t>(p));
   parallel_rows(p, [&](int i) {
     Vec3 w = Vec3::Zero();
     double ls = 0.0;
@@ -411,8 +416,9 @@ void NonlinearSolver::start(std::span<const Eigen::Affine3d> transforms, bool wa
     const Eigen::Quaterniond g = rotation_from_vector(w);
     d.q[ui] = warm ? (g * d.guide[ui].conjugate() * d.q[ui]).normalized() : g;
     d.guide[ui] = g;
-    d.scale[ui] = std::exp(ls);
+    d.scale[ui] = d.guide_scale[ui] = std::exp(ls);
   });
+  d.grows = std::any_of(d.guide_scale.begin(), d.guide_scale.end(), [](double g) { return g > 1.0; });
   if (d.local_membrane && !warm)
     for (int i = 0; i < d.n_inner; ++i) d.q_local[static_cast<std::size_t>(i)] = d.q[static_cast<std::size_t>(i)];
   if (!warm) d.x.topRows(p) = d.rest.topRows(p);
@@ -612,6 +618,11 @@ void NonlinearSolver::arap_rows(const std::vector<Eigen::Matrix3d>& rot, Eigen::
       OneSided target = (*targets)[uf];
       if (target.bent_stretch_share > target.stretch_share)  // the field's rotations tell bends from twists
         target = FaceFans::where_bent(target, d.fans->bend_fraction(f, d.q, d.rest.data()));
+      if (target.growth_taken) {
+        const auto& c = d.fans->corners(f);
+        const auto scale = [&](int k) { return d.scale[static_cast<std::size_t>(k)]; };
+        target.grown = (scale(c[0]) + scale(c[1]) + scale(c[2])) / 3.0;
+      }
       d.terms[uf] = d.fans->edge_terms(f, d.fans->mean(f, rot), d.rest.data(), d.x.data(), target);
     });
     parallel_rows(n_free_, [&](int i) { out.row(i) = d.fans->rotated(i, d.terms).transpose(); });
@@ -657,9 +668,31 @@ void NonlinearSolver::fit_rotations() {
   // that of a vertex near a handle toward the less rotated one (the gallery, docs/nonlinear.md).
   d.smoothing->apply(d.cov, d.cov2);
   parallel_rows(p, [&](int i) { extract_rotation(d.cov[static_cast<std::size_t>(i)], d.q[static_cast<std::size_t>(i)]); });
+  if (d.grows) fit_growth();
 }
 
-
+void NonlinearSolver::fit_growth() {
+  // Where the guidance grows a row (scale g > 1), its scale is fitted with its rotation, as a
+  // similarity's is (tr(R^T C) over the rest's tr(C), both smoothed alike), within [1, g]: a
+  // band that the geometry keeps short is not forced to grow and buckle, and a grown one is
+  // (docs/nonlinear.md, "What the gallery found", 64).
+  Data& d = *d_;
+  const int p = n_free_;
+  if (d.rest_trace.empty()) {
+    std::vector<Eigen::Matrix3d> rest(static_cast<std::size_t>(d.n_inner)), work;
+    parallel_rows(d.n_inner, [&](int i) { rest[static_cast<std::size_t>(i)] = d.fans->covariance(i, d.rest.data()); });
+    d.smoothing->apply(rest, work);
+    d.rest_trace.resize(static_cast<std::size_t>(p));
+    for (int i = 0; i < p; ++i) d.rest_trace[static_cast<std::size_t>(i)] = rest[static_cast<std::size_t>(i)].trace();
+  }
+  parallel_rows(p, [&](int i) {
+    const auto ui = static_cast<std::size_t>(i);
+    const double g = d.guide_scale[ui];
+    if (!(g > 1.0 && d.rest_trace[ui] > 0.0)) return;
+    const double fitted = (d.q[ui].toRotationMatrix().transpose() * d.cov[ui]).trace() / d.rest_trace[ui];
+    d.scale[ui] = std::clamp(fitted, 1.0, g);
+  });
+}
 
 IterativeModelFactory nonlinear_base_model(const NonlinearOptions& options) {
   NonlinearOptions on_base = options;

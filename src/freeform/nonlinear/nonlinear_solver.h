@@ -124,6 +124,7 @@ class NonlinearSolver final : public IterativeModel {
   int n_movable_ = 0;
 
   void fit_rotations();
+  void fit_growth();
   void keep_volumes();
   void start_volumes(std::span<const Eigen::Affine3d> transforms, std::span<const Vec3> omega,
                      std::span<const double> handle_s);
