@@ -230,15 +230,14 @@ TEST(GallerySubset, HandlesTurnedInPlaceAgainstArap) {
   expect_near_arap(cases, 4);
 }
 
-// Handles grown about their centres, as a scale gizmo grows them (scale_cases' grows: each
-// limb's end 1.6-2 times its size), on the cow, the camel and the hand, against CGAL's ARAP in the test. A handle grown
-// about its centre shortens the band between it and the fixed rim; until that band took the growth the geometry leaves
-// it rather than having it forced (docs/nonlinear.md, "What the gallery found", 64), it buckled there: 38 / 38 folded
-// edges and 33 / 34 collapsed faces in all at k = 2 / 3 against ARAP's 17 and 16 (the cow's tail
-// tuft grown 1.97: 22 / 23 folded edges where ARAP folds none). Measured since: 1 / 6 and 6 / 10;
-// the tuft at k = 3 still folds 6 edges and collapses 10 faces (ARAP 0 and 1). Shrunk handles
-// are not in it: their model did not change, and the cow's tuft shrunk to 0.53 collapses 19 / 36
-// faces against ARAP's 8.
+// Handles grown about their centres, as a scale gizmo grows them (scale_cases' grows: each limb's end 1.6-2 times
+// its size), on the cow, the camel and the hand, against CGAL's ARAP in the test. A handle grown about its centre
+// shortens the band between it and the fixed rim; until that band took the growth the geometry leaves it rather than
+// having it forced (docs/nonlinear.md, "What the gallery found", 64), it buckled there: 38 and 38 folded edges, 33
+// and 34 collapsed faces in all at k = 2 and 3, against ARAP's 17 and 16 (the cow's tail tuft grown 1.97: 22 and 23
+// folded edges where ARAP folds none). Measured since: 1 and 6 folded edges, 6 and 10 collapsed faces; the tuft at
+// k = 3 still folds 6 edges and collapses 10 faces (ARAP 0 and 1). Shrunk handles are not in it: their model did not
+// change, and the cow's tuft shrunk to 0.53 collapses 19 and 36 faces against ARAP's 8.
 TEST(GallerySubset, GrownHandlesAgainstArap) {
   std::vector<Shape> cases;
   for (const char* name : {"cow", "camel", "hand"})
