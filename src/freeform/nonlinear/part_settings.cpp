@@ -57,10 +57,6 @@ constexpr OneSided kLocalMembrane{1.25, 0.5}, kFieldMembrane{0.5, 0.0, 0.1};
 constexpr double kReleasedStretch = 0.8, kReleasedStretchFull = 1000.0, kReleasedStretchNone = 1500.0;
 constexpr double kFieldLean = 0.5, kLeanFrom = 5000.0, kLeanFull = 6000.0;
 constexpr double kLaggedMembrane = 1.0;
-// Where a handle is scaled up, lengths between the rest's and the grown target are taken as they
-// are (OneSided::growth_taken) up to kLeanFrom free vertices, where the membrane turns with its own
-// 1-ring rotations alone: on the subdivided armadillo's limb grown 1.81 (8,626 free) it took 156 /
-// 298 iterations at k = 2 / 3 instead of 31 / 32 (docs/nonlinear.md, "What the gallery found", 64).
 // Where the field bends rather than twists (FaceFans::where_bent), a stretch is accepted wholly
 // with the 1-ring rotations: the outside of a crook stretches and its inside folds less
 // (docs/nonlinear.md, "What the gallery found", 48).
@@ -98,6 +94,9 @@ PartSettings part_settings(int free, int order, const NonlinearOptions& options)
   s.targets = kLocalMembrane;
   s.targets.stretch_share += released * (kReleasedStretch - kLocalMembrane.stretch_share);
   s.targets.bent_stretch_share = kBentStretchShare;
+  // Lengths between the rest's and a grown target taken as they are (OneSided::growth_taken) only
+  // where the membrane turns with its own 1-ring rotations alone: with the lean the subdivided
+  // armadillo's grown limb iterated far longer (docs/nonlinear.md, "What the gallery found", 64).
   s.targets.growth_taken = free <= kLeanFrom;
   s.lagged = kLaggedMembrane;
   s.field_below = kFieldBelowConditioning;
