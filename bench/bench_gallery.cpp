@@ -148,7 +148,13 @@ nlohmann::json run_freeform(const Shape& shape, const Config& c, bool closed, Ve
       j["converged"] = st->converged;
       j["step"] = st->step;
     }
-    if (solver.stats().multires) j["detail_by_model"] = solver.stats().multires->detail_by_model;
+    if (solver.stats().multires) {
+      j["detail_by_model"] = solver.stats().multires->detail_by_model;
+      j["detail_carried"] = !solver.detail_carried().empty();
+      const MultiresProblems detail = solver.problems(p).detail;
+      j["detail_flipped"] = detail.flipped;
+      j["detail_overlaps"] = detail.overlaps;
+    }
   } catch (const std::exception& e) {
     j["error"] = e.what();
     return j;

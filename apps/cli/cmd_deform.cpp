@@ -77,6 +77,7 @@ void print_summary(const DeformOptions& opt, const ReadResult& read, const EditS
       fmt::print("multiresolution: decomposition {:.1f} ms, reconstruct {:.3f} ms; {} normal-encoded, {} fallback vertices\n",
                  ms->decomposition_ms, reconstruct_ms, ms->normal_encoded, ms->fallback);
     if (!ms->operator_fallback.empty()) fmt::print("multiresolution: {}\n", ms->operator_fallback);
+    if (!solver.detail_carried().empty()) fmt::print("multiresolution: {}\n", solver.detail_carried());
   }
 }
 

@@ -17,7 +17,10 @@ Json edit_report(const EditSolver& solver, const EditTimings& frame, const EditP
   for (const HandleRegion& h : regions.handles()) handles.push_back({{"vertices", h.vertices.size()}, {"movable", h.movable}});
   Json multires = nullptr;
   if (ms)
-    multires = {{"detail", ms->detail_by_model ? "nonlinear_model" : ms->vertex_frames > 0 ? "vertex_frames" : "normal_displacement"},
+    multires = {{"detail", ms->detail_by_model || !solver.detail_carried().empty() ? "nonlinear_model"
+                           : ms->vertex_frames > 0                                 ? "vertex_frames"
+                                                                                   : "normal_displacement"},
+                {"detail_carried", solver.detail_carried().empty() ? Json(nullptr) : Json(solver.detail_carried())},
                 {"decomposition_ms", ms->decomposition_ms},
                 {"smooth_operator", ms->smooth_operator},
                 {"operator_fallback", ms->operator_fallback.empty() ? Json(nullptr) : Json(ms->operator_fallback)},

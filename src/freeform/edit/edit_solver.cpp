@@ -60,6 +60,15 @@ void refuse_unanchored_closed_components(const Mesh& mesh, const Regions& region
   }
 }
 
+// Free rows in `bcm`'s order and the movable handles moved by `transforms`, into `positions`.
+void write_rows(const BcmSolver& bcm, std::span<const Eigen::Affine3d> transforms,
+                Eigen::Ref<const BcmSolver::RowMatrixX3d> free_rows, VertexData<Vec3>& positions) {
+  const std::vector<Vertex>& free = bcm.free_vertices();
+  for (std::size_t i = 0; i < free.size(); ++i)
+    positions[free[i]] = free_rows.row(static_cast<Eigen::Index>(i)).transpose();
+  bcm.move_handles(transforms, positions);
+}
+
 // The same edit at order k - 1, each boundary smoothness capped at C^(k-2).
 Edit lower_order(const Edit& edit) {
   Edit lower = edit;
@@ -102,6 +111,7 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
   bcm_.reset();
   multires_.reset();
   model_.reset();
+  carried_.reset();
   stats_ = {};
   try {
     build(mesh, lower, progress);
@@ -111,6 +121,15 @@ EditSolver::EditSolver(const Mesh& mesh, const Edit& edit, const Progress& progr
   settings_ = lower.settings;
   stats_.order_fallback = failure + "; solved at order 2";
 }
+
+struct EditSolver::Carried {
+  explicit Carried(const Mesh& m) : mesh(m) {}
+  Mesh mesh;  // a copy: the solvers are built on the first frame that needs them
+  std::unique_ptr<BcmSolver> bcm;
+  std::unique_ptr<NonlinearSolver> model;
+  VertexData<Vec3> positions;  // workspace
+  std::string why;             // of the last frame (detail_carried())
+};
 
 void EditSolver::build(const Mesh& mesh, const Edit& edit, const Progress& progress) {
   progress.check();
@@ -168,6 +187,7 @@ void EditSolver::build(const Mesh& mesh, const Edit& edit, const Progress& progr
                                        nonlinear ? RowOrder::BreadthFirst : RowOrder::ByIndex, &analysis);
     if (nonlinear) model_ = std::make_unique<NonlinearSolver>(mesh, regions_, *bcm_, mesh.positions(), edit.nonlinear);
   }
+  if (multires_ && nonlinear) carried_ = std::make_unique<Carried>(mesh);
   stats_.bcm = bcm().stats();
   if (multires_) stats_.multires = multires_->stats();
   if (detail_by_model) {
@@ -219,7 +239,13 @@ const NonlinearOptions* EditSolver::nonlinear_options() const {
 }
 
 const NonlinearState* EditSolver::nonlinear_state() const {
+  if (!detail_carried().empty()) return &carried_->model->state();
   return iterative_model() ? &iterative_model()->state() : nullptr;
+}
+
+const std::string& EditSolver::detail_carried() const {
+  static const std::string none;
+  return carried_ ? carried_->why : none;
 }
 
 void EditSolver::show(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<const BcmSolver::RowMatrixX3d> free_rows,
@@ -232,15 +258,13 @@ void EditSolver::show(std::span<const Eigen::Affine3d> transforms, Eigen::Ref<co
     timings_.reconstruction_ms = multires_->last_timings().detail_ms;
     return;
   }
-  const std::vector<Vertex>& free = bcm_->free_vertices();
-  if (free_rows.rows() != static_cast<Eigen::Index>(free.size()))
-    throw InvalidInput("show: " + std::to_string(free_rows.rows()) + " rows for " + std::to_string(free.size()) +
-                       " free vertices");
+  if (free_rows.rows() != static_cast<Eigen::Index>(bcm_->free_vertices().size()))
+    throw InvalidInput("show: " + std::to_string(free_rows.rows()) + " rows for " +
+                       std::to_string(bcm_->free_vertices().size()) + " free vertices");
   if (static_cast<int>(transforms.size()) != n_movable())
     throw InvalidInput("show: got " + std::to_string(transforms.size()) + " transforms for " +
                        std::to_string(n_movable()) + " movable handles");
-  for (std::size_t i = 0; i < free.size(); ++i) positions[free[i]] = free_rows.row(static_cast<Eigen::Index>(i)).transpose();
-  bcm_->move_handles(transforms, positions);
+  write_rows(*bcm_, transforms, free_rows, positions);
   timings_.reconstruction_ms = 0.0;
 }
 
@@ -256,11 +280,45 @@ void EditSolver::evaluate(std::span<const Eigen::Affine3d> transforms, VertexDat
   if (multires_) {
     multires_->evaluate(transforms, positions, progress);
     timings_ = {multires_->last_timings().base_ms, multires_->last_timings().detail_ms};
+    if (carried_) carry_failed_detail(transforms, positions, progress);
     return;
   }
   const auto start = std::chrono::steady_clock::now();
   bcm_->evaluate(transforms, positions);
   timings_ = {std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(), 0.0};
+}
+
+// The decomposition can fail the nonlinear model where the base bends tighter than the detail
+// is tall (a dent next to a crease, a limb turned in place): the detail re-added to the base
+// flips or is flattened, and edges fold that the model carrying the detail on the detailed mesh,
+// as without multiresolution, leaves flat. Where a frame's detail fails or its edges fold, the
+// frame is solved that way too and the result with fewer folded edges is kept (ties: the
+// decomposition's, unless its detail failed), so the decomposition stays where it holds the
+// detail's shape (the survey plane's bumps) (docs/nonlinear.md, "Detail that overhangs its base").
+void EditSolver::carry_failed_detail(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
+                                     const Progress& progress) const {
+  Carried& c = *carried_;
+  c.why.clear();
+  const MultiresProblems failed = multires_->problems(positions);
+  const int decomposed = folds_.count(positions);
+  if (failed.ok() && decomposed == 0) return;
+  if (!c.model) {
+    c.bcm = std::make_unique<BcmSolver>(c.mesh, regions_, settings_, progress, nullptr, true);
+    c.model = std::make_unique<NonlinearSolver>(c.mesh, regions_, *c.bcm, c.mesh.positions(), *nonlinear_options_);
+  }
+  c.model->start(transforms, false, nullptr);
+  c.model->run(progress);
+  timings_.evaluate_ms += c.model->state().ms;
+  c.positions = positions;
+  write_rows(*c.bcm, transforms, c.model->free_positions(), c.positions);
+  const int carried = folds_.count(c.positions);
+  if (carried > decomposed || (carried == decomposed && failed.ok())) return;
+  for (Vertex v : touched_) positions[v] = c.positions[v];
+  timings_.reconstruction_ms = 0.0;
+  c.why = fmt::format(
+      "the detail re-added to the base folded {} edges (flipped {} detail triangles, flattened {} vertices); "
+      "the nonlinear model carried it on the detailed mesh (no decomposition) for this frame",
+      decomposed, failed.flipped, failed.overlaps);
 }
 
 EditProblems EditSolver::problems(const VertexData<Vec3>& positions) const {
@@ -274,7 +332,7 @@ EditProblems EditSolver::problems(const VertexData<Vec3>& positions) const {
   }
   if (p.non_finite > 0) return p;
   p.folded_edges = folds_.count(positions);
-  if (multires_) p.detail = multires_->problems(positions);
+  if (multires_ && detail_carried().empty()) p.detail = multires_->problems(positions);
   return p;
 }
 

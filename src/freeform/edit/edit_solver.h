@@ -112,12 +112,20 @@ class EditSolver {
   // last evaluate(). O(support).
   EditProblems problems(const VertexData<Vec3>& positions) const;
 
+  // Why the last evaluate() kept the nonlinear model's solve on the detailed mesh instead of the
+  // decomposed one (empty where it did not): the detail re-added to the base flipped or was
+  // flattened (MultiresProblems), and the model carrying the detail itself, as without
+  // multiresolution, folded no more edges. DragSession shows the decomposed iterates.
+  const std::string& detail_carried() const;
+
   const EditStats& stats() const { return stats_; }
   const BcmSolver& bcm() const;                                   // the linear model's solver
   const MultiresSolver* multires() const { return multires_.get(); }  // null without multires
 
  private:
   void build(const Mesh& mesh, const Edit& edit, const Progress& progress);
+  void carry_failed_detail(std::span<const Eigen::Affine3d> transforms, VertexData<Vec3>& positions,
+                           const Progress& progress) const;
 
   Regions regions_;
   BcmSettings settings_;
@@ -127,6 +135,10 @@ class EditSolver {
   std::unique_ptr<MultiresSolver> multires_;   // either model with detail (owns its solvers)
   std::unique_ptr<IterativeModel> model_;      // plain iterating model (over bcm_'s system)
   std::optional<NonlinearOptions> nonlinear_options_;  // set for the nonlinear model
+  // The nonlinear model over the detailed mesh, where multires_ decomposes for it: built on the
+  // first frame whose detail fails (detail_carried()).
+  struct Carried;
+  std::unique_ptr<Carried> carried_;
   EditStats stats_;
   mutable EditTimings timings_;
 };
