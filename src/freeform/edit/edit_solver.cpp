@@ -127,7 +127,7 @@ struct EditSolver::Carried {
   Mesh mesh;  // a copy: the solvers are built on the first frame that needs them
   std::unique_ptr<BcmSolver> bcm;
   std::unique_ptr<NonlinearSolver> model;
-  VertexData<Vec3> positions;  // workspace
+  std::vector<Vec3> decomposed;  // the touched vertices' decomposed positions (workspace)
   std::string why;             // of the last frame (detail_carried())
 };
 
@@ -309,11 +309,14 @@ void EditSolver::carry_failed_detail(std::span<const Eigen::Affine3d> transforms
   c.model->start(transforms, false, nullptr);
   c.model->run(progress);
   timings_.evaluate_ms += c.model->state().ms;
-  c.positions = positions;
-  write_rows(*c.bcm, transforms, c.model->free_positions(), c.positions);
-  const int carried = folds_.count(c.positions);
-  if (carried > decomposed || (carried == decomposed && failed.ok())) return;
-  for (Vertex v : touched_) positions[v] = c.positions[v];
+  c.decomposed.resize(touched_.size());
+  for (std::size_t i = 0; i < touched_.size(); ++i) c.decomposed[i] = positions[touched_[i]];
+  write_rows(*c.bcm, transforms, c.model->free_positions(), positions);
+  const int carried = folds_.count(positions);
+  if (carried > decomposed || (carried == decomposed && failed.ok())) {
+    for (std::size_t i = 0; i < touched_.size(); ++i) positions[touched_[i]] = c.decomposed[i];
+    return;
+  }
   timings_.reconstruction_ms = 0.0;
   c.why = fmt::format(
       "the detail re-added to the base folded {} edges (flipped {} detail triangles, flattened {} vertices); "
